@@ -1,0 +1,98 @@
+// Local observer frames: turning a direction seen by an observer into a covariant photon momentum,
+// and back.
+//
+// The observer is static (4-velocity along the Killing field d/dt) wherever g_tt < 0, and the
+// zero-angular-momentum observer (ZAMO, rotating with Omega = -g_tphi / g_phiphi about z) inside an
+// ergoregion. Its spatial triad is the Lowdin (symmetric) orthonormalisation of the coordinate axes
+// d/dx, d/dy, d/dz projected orthogonal to the 4-velocity: of all orthonormal triads it is the one
+// closest to the Cartesian axes, and it rotates with the coordinates, so radial and tangential
+// directions of a spherically symmetric metric stay radial and tangential.
+#pragma once
+
+#include <cmath>
+
+#include "core/linalg.h"
+
+namespace wv {
+
+struct ObserverFrame {
+  double g[4][4];  // covariant metric g_{mu nu} at the point
+  double u[4];     // observer 4-velocity u^mu
+  double e[3][4];  // spatial triad e_j^mu, j = x, y, z
+};
+
+// Returns false where no static observer or ZAMO exists (inside a horizon) or the metric is singular.
+template <class M>
+bool observer_frame(const M& m, const double x[4], ObserverFrame& f) {
+  double gi[4][4];
+  m.inverse_metric(x, gi);
+  if (!invert4(gi, f.g)) return false;
+  const auto& g = f.g;
+  if (g[0][0] < 0.0) {
+    f.u[0] = 1.0 / std::sqrt(-g[0][0]);
+    f.u[1] = f.u[2] = f.u[3] = 0.0;
+  } else {
+    const double xi[4] = {0.0, -x[2], x[1], 0.0};  // rotation about z
+    double gtp = 0.0, gpp = 0.0;
+    for (int i = 1; i < 4; ++i) {
+      gtp += g[0][i] * xi[i];
+      for (int j = 1; j < 4; ++j) gpp += g[i][j] * xi[i] * xi[j];
+    }
+    if (!(gpp > 0.0)) return false;
+    const double om = -gtp / gpp;
+    const double v[4] = {1.0, om * xi[1], om * xi[2], 0.0};
+    double n2 = 0.0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) n2 += g[a][b] * v[a] * v[b];
+    if (!(n2 < 0.0)) return false;
+    const double s = 1.0 / std::sqrt(-n2);
+    for (int a = 0; a < 4; ++a) f.u[a] = v[a] * s;
+  }
+  double ul[4];  // u lowered: g(d_mu, u)
+  for (int a = 0; a < 4; ++a) {
+    ul[a] = 0.0;
+    for (int b = 0; b < 4; ++b) ul[a] += g[a][b] * f.u[b];
+  }
+  // Projected axes b_i = d_i + g(d_i, u) u have Gram matrix G_ij = g_ij + u_i u_j.
+  double gram[3][3], s[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) gram[i][j] = g[i + 1][j + 1] + ul[i + 1] * ul[j + 1];
+  if (!sym_inv_sqrt3(gram, s)) return false;
+  for (int j = 0; j < 3; ++j)
+    for (int mu = 0; mu < 4; ++mu) {
+      double acc = 0.0;
+      for (int i = 0; i < 3; ++i) {
+        const double bmu = (mu == i + 1 ? 1.0 : 0.0) + ul[i + 1] * f.u[mu];
+        acc += bmu * s[i][j];
+      }
+      f.e[j][mu] = acc;
+    }
+  return true;
+}
+
+// Covariant momentum p_mu of a photon of unit local energy moving along the unit vector n of the frame.
+inline void frame_to_momentum(const ObserverFrame& f, const double n[3], double p[4]) {
+  double pu[4];
+  for (int mu = 0; mu < 4; ++mu) pu[mu] = f.u[mu] + n[0] * f.e[0][mu] + n[1] * f.e[1][mu] + n[2] * f.e[2][mu];
+  for (int a = 0; a < 4; ++a) {
+    p[a] = 0.0;
+    for (int b = 0; b < 4; ++b) p[a] += f.g[a][b] * pu[b];
+  }
+}
+
+// Unit direction n seen by the frame's observer for covariant momentum p; returns the local energy.
+inline double momentum_to_frame(const ObserverFrame& f, const double p[4], double n[3]) {
+  double energy = 0.0;
+  for (int mu = 0; mu < 4; ++mu) energy -= p[mu] * f.u[mu];
+  double norm2 = 0.0;
+  for (int j = 0; j < 3; ++j) {
+    n[j] = 0.0;
+    for (int mu = 0; mu < 4; ++mu) n[j] += p[mu] * f.e[j][mu];
+    norm2 += n[j] * n[j];
+  }
+  const double inv = norm2 > 0.0 ? 1.0 / std::sqrt(norm2) : 0.0;
+  for (int j = 0; j < 3; ++j) n[j] *= inv;
+  return energy;
+}
+
+}  // namespace wv

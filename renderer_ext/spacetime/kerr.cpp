@@ -1,0 +1,114 @@
+// Kerr spacetime of mass M and spin a = spin * M (angular momentum along +z) in Cartesian Kerr-Schild
+// (ingoing, horizon-penetrating) coordinates:
+//
+//   ds^2 = -dt^2 + dx^2 + dy^2 + dz^2 + f (l_mu dx^mu)^2,
+//   f = 2 M r^3 / (r^4 + a^2 z^2),   l_mu = (1, (r x + a y) / (r^2 + a^2), (r y - a x) / (r^2 + a^2), z / r),
+//   x^2 + y^2 + z^2 = r^2 + a^2 - a^2 z^2 / r^2   (r is the Boyer-Lindquist radius),
+//   g^{mu nu} = eta^{mu nu} - f l^mu l^nu.
+//
+// Outer horizon r+ = M + sqrt(M^2 - a^2); static observers exist outside the ergosurface
+// r = M + sqrt(M^2 - a^2 cos^2 theta), ZAMOs down to r+. Conserved: E = -p_t, Lz = x p_y - y p_x,
+// Carter's Q = p_theta^2 + cos^2 theta (Lz^2 / sin^2 theta - a^2 E^2), written below in a form regular
+// on the axis, and H = 0.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/registry.h"
+#include "spacetime/metric.h"
+#include "spacetime/params.h"
+
+namespace wv {
+
+struct Kerr : MetricBase<Kerr> {
+  static constexpr const char* kName = "kerr";
+  static constexpr int kNumInvariants = 4;
+  static constexpr const char* kInvariantNames[kNumInvariants] = {"H", "E", "Lz", "Q"};
+  double M, a, r_plus;
+
+  explicit Kerr(const std::vector<double>& p)
+      : M(checked_param(kName, "mass", p[0], 0.0, true, 1e300, false)),
+        a(checked_param(kName, "spin", p[1], -1.0, true, 1.0, true) * p[0]),
+        r_plus(M + std::sqrt((M - a) * (M + a))) {}
+
+  // Boyer-Lindquist r from Cartesian Kerr-Schild x, y, z; stable on both sides of the disk r = 0.
+  template <class T>
+  T bl_radius(const T& x, const T& y, const T& z) const {
+    const T w = x * x + y * y + z * z - a * a;
+    const T disc = sqrt(w * w + 4.0 * a * a * z * z);
+    const T r2 = (w < 0.0) ? T(2.0 * a * a) * z * z / (disc - w) : 0.5 * (w + disc);
+    return sqrt(r2);
+  }
+
+  template <class T>
+  void inverse_metric(const T* x, T gi[4][4]) const {
+    const T r = bl_radius(x[1], x[2], x[3]);
+    const T s = r * r + a * a;
+    const T f = 2.0 * M * r * r * r / (r * r * r * r + a * a * x[3] * x[3]);
+    const T l[4] = {T(-1.0), (r * x[1] + a * x[2]) / s, (r * x[2] - a * x[1]) / s, x[3] / r};
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) gi[i][j] = T(i == j ? (i == 0 ? -1.0 : 1.0) : 0.0) - f * l[i] * l[j];
+  }
+
+  // Hand-written Hamilton equations. H = (-p_t^2 + |p|^2) / 2 - (f / 2) L^2, L = l^mu p_mu, and
+  // d_i r = (x r^3, y r^3, z r (r^2 + a^2)) / (r^4 + a^2 z^2) from differentiating the r-equation.
+  void rhs(const double y[8], double dy[8]) const {
+    const double x = y[1], yy = y[2], z = y[3], pt = y[4], px = y[5], py = y[6], pz = y[7];
+    const double r = bl_radius(x, yy, z);
+    const double r2 = r * r, r3 = r2 * r, a2 = a * a, z2 = z * z;
+    const double s = r2 + a2, is = 1.0 / s, ir = 1.0 / r;
+    const double q = r2 * r2 + a2 * z2, iq = 1.0 / q;
+    const double f = 2.0 * M * r3 * iq;
+    const double lx = (r * x + a * yy) * is, ly = (r * yy - a * x) * is, lz = z * ir;
+    const double L = -pt + lx * px + ly * py + lz * pz;
+    const double fL = f * L;
+    dy[0] = -pt + fL;
+    dy[1] = px - fL * lx;
+    dy[2] = py - fL * ly;
+    dy[3] = pz - fL * lz;
+    dy[4] = 0.0;
+    // derivatives of r
+    const double dr_x = x * r3 * iq, dr_y = yy * r3 * iq, dr_z = z * r * s * iq;
+    // f = f(r, z): partials at fixed z and at fixed r
+    const double f_r = 2.0 * M * r2 * (3.0 * a2 * z2 - r2 * r2) * iq * iq;
+    const double f_z = -4.0 * M * a2 * r3 * z * iq * iq;
+    // L = L(x, y, z, r): explicit partials and the partial in r
+    const double A = x * px + yy * py, B = yy * px - x * py;
+    const double L_r = A * is - 2.0 * r * (r * A + a * B) * is * is - z * pz * ir * ir;
+    const double L_x = (r * px - a * py) * is, L_y = (r * py + a * px) * is, L_z = pz * ir;
+    const double hL2 = 0.5 * L * L;
+    dy[5] = hL2 * f_r * dr_x + fL * (L_x + L_r * dr_x);
+    dy[6] = hL2 * f_r * dr_y + fL * (L_y + L_r * dr_y);
+    dy[7] = hL2 * (f_r * dr_z + f_z) + fL * (L_z + L_r * dr_z);
+  }
+
+  double radius(const double* x) const { return bl_radius(x[1], x[2], x[3]); }
+  double horizon_radius() const { return r_plus; }
+  bool absorbed(const double* x) const { return radius(x) < r_plus; }
+  double length_scale() const { return M; }
+
+  void invariants(const double y[8], double out[]) const {
+    const double x = y[1], yy = y[2], z = y[3], px = y[5], py = y[6], pz = y[7];
+    const double r = bl_radius(x, yy, z);
+    const double E = -y[4];
+    const double c = z / r;  // cos(theta)
+    out[0] = hamiltonian(*this, y);
+    out[1] = E;
+    out[2] = x * py - yy * px;
+    // p_theta^2 + cot^2(theta) Lz^2, with x^2 + y^2 = (r^2 + a^2) sin^2(theta), regular on the axis
+    const double ptheta2_lz = c * c * (r * r + a * a) * (px * px + py * py) - 2.0 * r * c * (x * px + yy * py) * pz +
+                              r * r * (1.0 - c * c) * pz * pz;
+    out[3] = ptheta2_lz - a * a * E * E * c * c;
+  }
+  void invariant_scales(const double y[8], const double inv[], double scale[]) const {
+    const double pmag = std::sqrt(y[4] * y[4] + y[5] * y[5] + y[6] * y[6] + y[7] * y[7]);
+    scale[0] = 1.0;
+    scale[1] = std::max(std::fabs(inv[1]), 1e-3 * pmag);
+    scale[2] = std::max(std::fabs(inv[2]), M * scale[1]);
+    scale[3] = std::max(std::fabs(inv[3]), M * M * scale[1] * scale[1]);
+  }
+};
+
+WARPVIZ_REGISTER_METRIC(Kerr, {"mass", "spin"});
+
+}  // namespace wv

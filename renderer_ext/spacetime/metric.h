@@ -1,0 +1,126 @@
+// The Metric contract.
+//
+// A metric is one struct in one .cpp file (its line element in the header comment) that derives from
+// MetricBase<Self> and provides, in signature (-,+,+,+) with geometric units G = c = 1:
+//
+//   static constexpr const char* kName;                       registry name, e.g. "kerr"
+//   static constexpr int kNumInvariants;                      conserved quantities, [0] is always H
+//   static constexpr const char* kInvariantNames[];           e.g. {"H", "E", "Lz", "Q"}
+//   template <class T> void inverse_metric(const T x[4], T gi[4][4]) const;
+//                                                             g^{mu nu}(x); T is double or Dual<4>
+//   double radius(const double x[4]) const;                   areal / Boyer-Lindquist radius
+//   void invariants(const double y[8], double out[]) const;   conserved quantities at state y
+//   void invariant_scales(const double y[8], const double inv[], double scale[]) const;
+//                                                             normalisation of each relative drift
+//
+// and may override the defaults of MetricBase: a hand-written Hamiltonian right-hand side `rhs`
+// (checked against `rhs_autodiff` to 1e-12 by the contract tests), a horizon (`absorbed`,
+// `horizon_radius`), a chart change between sheets (`normalize_chart`, Ellis), and the map between the
+// integration chart and the Cartesian frame the user sees (`chart_to_user`, `user_to_chart`).
+//
+// The state of a ray is y = (x^0..x^3, p_0..p_3) with x^0 = t and Cartesian x^1..x^3; the Hamiltonian
+// is H = 1/2 g^{mu nu} p_mu p_nu and Hamilton's equations dx^mu/dlambda = dH/dp_mu,
+// dp_mu/dlambda = -dH/dx^mu are the geodesic equations. All metrics here are stationary, so p_0 = -E
+// is constant.
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "core/dual.h"
+
+namespace wv {
+
+constexpr int kStateSize = 8;
+constexpr int kMaxInvariants = 6;
+
+// Hamilton's equations from the inverse metric alone, with exact derivatives from dual numbers.
+template <class M>
+void rhs_autodiff(const M& m, const double y[8], double dy[8]) {
+  using D = Dual<4>;
+  D x[4];
+  for (int k = 0; k < 4; ++k) x[k] = D::variable(y[k], k);
+  D gi[4][4];
+  m.inverse_metric(x, gi);
+  const double* p = y + 4;
+  for (int mu = 0; mu < 4; ++mu) {
+    double s = 0.0;
+    for (int nu = 0; nu < 4; ++nu) s += gi[mu][nu].v * p[nu];
+    dy[mu] = s;
+  }
+  for (int k = 0; k < 4; ++k) {
+    double s = 0.0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) s += gi[a][b].d[k] * p[a] * p[b];
+    dy[4 + k] = -0.5 * s;
+  }
+}
+
+template <class M>
+double hamiltonian(const M& m, const double y[8]) {
+  double gi[4][4];
+  m.inverse_metric(y, gi);
+  double s = 0.0;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) s += gi[a][b] * y[4 + a] * y[4 + b];
+  return 0.5 * s;
+}
+
+// Relative size of H: |2H| over the Euclidean size of the terms, 0 for an exact null vector.
+template <class M>
+double hamiltonian_error(const M& m, const double y[8]) {
+  double gi[4][4];
+  m.inverse_metric(y, gi);
+  double s = 0.0, mag = 0.0;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) {
+      const double t = gi[a][b] * y[4 + a] * y[4 + b];
+      s += t;
+      mag += std::fabs(t);
+    }
+  return mag > 0.0 ? std::fabs(s) / mag : 0.0;
+}
+
+template <class Derived>
+struct MetricBase {
+  // Flat metrics trace straight lines analytically and never step.
+  static constexpr bool kFlat = false;
+
+  const Derived& self() const { return static_cast<const Derived&>(*this); }
+
+  // Hamilton's equations; metrics override this with a hand-written version for speed.
+  void rhs(const double y[8], double dy[8]) const { rhs_autodiff(self(), y, dy); }
+
+  // Outer horizon radius (0 if none) and whether a point is inside it (ray absorbed).
+  double horizon_radius() const { return 0.0; }
+  bool absorbed(const double* /*x*/) const { return false; }
+
+  // Length scale of the strong-field region, used by the seed RK4 step halving and drift scales.
+  double length_scale() const { return 1.0; }
+
+  // Moves a state to another chart of the same spacetime (Ellis: the other sheet's chart); returns
+  // true if it changed the state, so a stepper must re-evaluate its cached derivative.
+  bool normalize_chart(double* /*y*/, int& /*sheet*/) const { return false; }
+
+  // Map between the integration chart and the user's Cartesian frame on `sheet`.
+  // Returns the sheet the point lies on (a state may sit just past the throat before its chart is
+  // normalised).
+  int chart_to_user(const double* x, int sheet, double pos[3]) const {
+    pos[0] = x[1];
+    pos[1] = x[2];
+    pos[2] = x[3];
+    return sheet;
+  }
+  std::string outside_chart_message(const double* /*pos*/) const { return "lies outside the metric's chart"; }
+
+  // Returns false if the point lies outside the chart (e.g. inside the Ellis throat radius).
+  bool user_to_chart(const double pos[3], int /*sheet*/, double x[4]) const {
+    x[0] = 0.0;
+    x[1] = pos[0];
+    x[2] = pos[1];
+    x[3] = pos[2];
+    return true;
+  }
+};
+
+}  // namespace wv

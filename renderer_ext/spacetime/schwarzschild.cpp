@@ -1,0 +1,80 @@
+// Schwarzschild spacetime of mass M in Cartesian Kerr-Schild (ingoing, horizon-penetrating) coordinates:
+//
+//   ds^2 = -dt^2 + dx^2 + dy^2 + dz^2 + (2M / r) (dt + (x dx + y dy + z dz) / r)^2,   r = |x|,
+//   g^{mu nu} = eta^{mu nu} - (2M / r) l^mu l^nu,   l^mu = (-1, x / r).
+//
+// Horizon r = 2M; photon sphere r = 3M. Conserved: E = -p_t, the angular momentum vector
+// L = x cross p (monitored as Lz and L^2 = |L|^2), and H = 0.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/registry.h"
+#include "spacetime/metric.h"
+#include "spacetime/params.h"
+
+namespace wv {
+
+struct Schwarzschild : MetricBase<Schwarzschild> {
+  static constexpr const char* kName = "schwarzschild";
+  static constexpr int kNumInvariants = 4;
+  static constexpr const char* kInvariantNames[kNumInvariants] = {"H", "E", "Lz", "L2"};
+  double M;
+
+  explicit Schwarzschild(const std::vector<double>& p) : M(checked_param(kName, "mass", p[0], 0.0, true, 1e300, false)) {}
+
+  template <class T>
+  void inverse_metric(const T* x, T gi[4][4]) const {
+    const T r = sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]);
+    const T f = 2.0 * M / r;
+    const T l[4] = {T(-1.0), x[1] / r, x[2] / r, x[3] / r};
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) gi[a][b] = T(a == b ? (a == 0 ? -1.0 : 1.0) : 0.0) - f * l[a] * l[b];
+  }
+
+  // Hand-written Hamilton equations, H = (-p_t^2 + |p|^2) / 2 - (f / 2) L^2 with L = -p_t + x.p / r.
+  void rhs(const double y[8], double dy[8]) const {
+    const double x = y[1], yy = y[2], z = y[3], pt = y[4], px = y[5], py = y[6], pz = y[7];
+    const double r2 = x * x + yy * yy + z * z, r = std::sqrt(r2), ir = 1.0 / r;
+    const double f = 2.0 * M * ir;
+    const double xp = x * px + yy * py + z * pz;
+    const double L = -pt + xp * ir;
+    const double fL = f * L;
+    dy[0] = -pt + fL;
+    dy[1] = px - fL * x * ir;
+    dy[2] = py - fL * yy * ir;
+    dy[3] = pz - fL * z * ir;
+    dy[4] = 0.0;
+    // dp_i = (L^2 / 2) d_i f + f L d_i L,  d_i f = -2M x_i / r^3,  d_i L = p_i / r - (x.p) x_i / r^3
+    const double ir3 = ir * ir * ir;
+    const double c = -M * L * L * ir3 - fL * xp * ir3;
+    const double d = fL * ir;
+    dy[5] = c * x + d * px;
+    dy[6] = c * yy + d * py;
+    dy[7] = c * z + d * pz;
+  }
+
+  double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }
+  double horizon_radius() const { return 2.0 * M; }
+  bool absorbed(const double* x) const { return radius(x) < 2.0 * M; }
+  double length_scale() const { return M; }
+
+  void invariants(const double y[8], double out[]) const {
+    const double lx = y[2] * y[7] - y[3] * y[6], ly = y[3] * y[5] - y[1] * y[7], lz = y[1] * y[6] - y[2] * y[5];
+    out[0] = hamiltonian(*this, y);
+    out[1] = -y[4];
+    out[2] = lz;
+    out[3] = lx * lx + ly * ly + lz * lz;
+  }
+  void invariant_scales(const double y[8], const double inv[], double scale[]) const {
+    const double pmag = std::sqrt(y[4] * y[4] + y[5] * y[5] + y[6] * y[6] + y[7] * y[7]);
+    scale[0] = 1.0;
+    scale[1] = std::max(std::fabs(inv[1]), 1e-3 * pmag);
+    scale[2] = std::max(std::fabs(inv[2]), M * scale[1]);
+    scale[3] = std::max(inv[3], M * M * scale[1] * scale[1]);
+  }
+};
+
+WARPVIZ_REGISTER_METRIC(Schwarzschild, {"mass"});
+
+}  // namespace wv

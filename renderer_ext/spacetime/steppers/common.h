@@ -1,0 +1,38 @@
+// Shared pieces of the steppers: the error norm, cubic Hermite dense output, stepper identifiers.
+//
+// Every stepper has the same small interface, used by integrate_ray (geodesic.h):
+//   void init(const M&, const double y[8])      derivative at the start of the next step
+//   double attempt(const M&, y, h, tol, ynew)    one trial step; returns the scaled error norm
+//                                                (<= 1 accept; 0 for fixed-step methods)
+//   void accept()                                the trial step was accepted: reuse f(ynew)
+//   void dense(y, ynew, h, theta, out)           state at y + theta*h within the accepted step
+//   static constexpr bool kAdaptive; static constexpr int kOrder;
+#pragma once
+
+#include <cmath>
+
+namespace wv {
+
+enum class StepperKind : int { kRk4 = 0, kDopri5 = 1, kDop853 = 2 };
+
+// RMS of err_i / (tol + tol * max(|y_i|, |ynew_i|)) over the state, except coordinate time t (index 0),
+// which feeds back into nothing and would otherwise limit steps on long rays.
+inline double error_norm(const double err[8], const double y[8], const double ynew[8], double tol) {
+  double s = 0.0;
+  for (int i = 1; i < 8; ++i) {
+    const double sc = tol * (1.0 + std::fmax(std::fabs(y[i]), std::fabs(ynew[i])));
+    const double e = err[i] / sc;
+    s += e * e;
+  }
+  return std::sqrt(s / 7.0);
+}
+
+// Cubic Hermite interpolant between (y0, f0) and (y1, f1) over a step of length h.
+inline void hermite_dense(const double y0[8], const double f0[8], const double y1[8], const double f1[8], double h,
+                          double theta, double out[8]) {
+  const double t2 = theta * theta, t3 = t2 * theta;
+  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + theta, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
+  for (int i = 0; i < 8; ++i) out[i] = h00 * y0[i] + h10 * h * f0[i] + h01 * y1[i] + h11 * h * f1[i];
+}
+
+}  // namespace wv
