@@ -242,7 +242,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     if (m.radius(y) >= o.escape_radius && moving_outward(m, y)) {  // starts outside, moving out
       res.sheet = m.chart_to_user(y, sheet, escape_pos);
       escaped = true;
-      target = std::max(o.escape_radius, tail_radius(y));
+      if (S::kAdaptive) target = std::max(o.escape_radius, tail_radius(y));
       if (m.radius(y) >= target) {
         finish(kEscaped, y);
         for (int i = 0; i < 3; ++i) res.pos[i] = escape_pos[i];
@@ -256,6 +256,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     double h = S::kAdaptive ? 0.01 * std::max(r, m.length_scale()) : rk4_step_for(r);
     double err_prev = 1e-4;
     bool last_rejected = false;
+    bool reinit = false;
     long attempts = 0;
     double ynew[8], ys[8];
     while (true) {
@@ -294,14 +295,16 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
           st.dense(y, ynew, h, mid, ys);
           if (m.radius(ys) > r_h) lo = mid; else hi = mid;
         }
-        st.dense(y, ynew, h, hi, ys);
+        // The crossing is found on the dense output; the state there comes from a full-order step.
+        st.attempt(m, y, hi * h, o.tol, ys);
         monitor(ys, hamiltonian_error(m, ys));
         record(ys, lam + hi * h, hi * h);
         return finish(kHorizon, ys);
       }
       // Escape: moving outward beyond the escape radius. The final position is the crossing of the
-      // escape sphere (located on the dense output); the direction keeps integrating, unrecorded, out to
-      // the radius where the Born tail's second-order error ~ 10 l^2 b / R^3 is below tol.
+      // escape sphere (located on the dense output); with an adaptive stepper the direction keeps
+      // integrating, unrecorded, out to the radius where the Born tail's second-order error
+      // ~ 10 l^2 b / R^3 is below tol (cheap: steps grow with r). The fixed-step seed RK4 stops here.
       if (r_new >= target && moving_outward(m, ynew)) {
         if (!escaped) {
           double frac = 1.0;
@@ -313,7 +316,8 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
               if (m.radius(ys) < o.escape_radius) lo = mid; else hi = mid;
             }
             frac = hi;
-            st.dense(y, ynew, h, hi, ys);
+            st.attempt(m, y, hi * h, o.tol, ys);  // full-order state at the crossing
+            reinit = true;                        // the trial step overwrote the stepper's stages
           } else {
             for (int i = 0; i < 8; ++i) ys[i] = ynew[i];
           }
@@ -321,7 +325,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
           record(ys, lam + frac * h, frac * h);
           res.sheet = m.chart_to_user(ys, sheet, escape_pos);
           escaped = true;
-          target = std::max(o.escape_radius, tail_radius(ys));
+          if (S::kAdaptive) target = std::max(o.escape_radius, tail_radius(ys));
         }
         if (r_new >= target) {
           res.status = kEscaped;
@@ -336,7 +340,8 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
       st.accept();
       for (int i = 0; i < 8; ++i) y[i] = ynew[i];
       if (!ok) return finish(kInvariantViolation, y);
-      if (m.normalize_chart(y, sheet)) st.init(m, y);
+      if (m.normalize_chart(y, sheet) || reinit) st.init(m, y);
+      reinit = false;
       r = m.radius(y);
       if constexpr (S::kAdaptive) {
         // PI step-size control (Gustafsson; Hairer & Wanner's constants).

@@ -8,8 +8,8 @@
 //
 // Outer horizon r+ = M + sqrt(M^2 - a^2); static observers exist outside the ergosurface
 // r = M + sqrt(M^2 - a^2 cos^2 theta), ZAMOs down to r+. Conserved: E = -p_t, Lz = x p_y - y p_x,
-// Carter's Q = p_theta^2 + cos^2 theta (Lz^2 / sin^2 theta - a^2 E^2), written below in a form regular
-// on the axis, and H = 0.
+// Carter's Q = p_theta^2 + cos^2 theta (Lz^2 / sin^2 theta - a^2 E^2) (null rays), written below in a
+// form regular on the axis, and H = 0.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -91,14 +91,17 @@ struct Kerr : MetricBase<Kerr> {
     const double x = y[1], yy = y[2], z = y[3], px = y[5], py = y[6], pz = y[7];
     const double r = bl_radius(x, yy, z);
     const double E = -y[4];
-    const double c = z / r;  // cos(theta)
+    const double c = z / r;                                // cos(theta)
+    const double s2 = (x * x + yy * yy) / (r * r + a * a);  // sin^2(theta), no cancellation near the axis
     out[0] = hamiltonian(*this, y);
     out[1] = E;
     out[2] = x * py - yy * px;
     // p_theta^2 + cot^2(theta) Lz^2, with x^2 + y^2 = (r^2 + a^2) sin^2(theta), regular on the axis
     const double ptheta2_lz = c * c * (r * r + a * a) * (px * px + py * py) - 2.0 * r * c * (x * px + yy * py) * pz +
-                              r * r * (1.0 - c * c) * pz * pz;
-    out[3] = ptheta2_lz - a * a * E * E * c * c;
+                              r * r * s2 * pz * pz;
+    // Carter's constant for any mass mu^2 = -2H (0 on null rays), so it is exactly conserved by the flow.
+    const double mu2 = -2.0 * out[0];
+    out[3] = ptheta2_lz + a * a * c * c * (mu2 - E * E);
   }
   void invariant_scales(const double y[8], const double inv[], double scale[]) const {
     const double pmag = std::sqrt(y[4] * y[4] + y[5] * y[5] + y[6] * y[6] + y[7] * y[7]);

@@ -1,0 +1,37 @@
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import warpviz as wv
+
+DATA = Path(__file__).parent / "data"
+
+
+@pytest.fixture(scope="session")
+def exact():
+    """Exact reference values (copy of the team's shared/reference/exact_values.json)."""
+    return json.loads((DATA / "exact_values.json").read_text())
+
+
+def launch_direction(r0: float, b: float, mass: float = 1.0) -> np.ndarray:
+    """Direction, in the static frame at (-r0, 0, 0), of a Schwarzschild ray with impact parameter b
+    moving towards +x and deflected in the x-y plane: sin(angle from radial) = b sqrt(1 - 2M/r0) / r0."""
+    s = b * math.sqrt(1.0 - 2.0 * mass / r0) / r0
+    return np.array([math.sqrt(1.0 - s * s), s, 0.0])
+
+
+def deflection(metric, r0: float, direction, **kw) -> float:
+    """Total deflection of the ray through (-r0, 0, 0) along `direction`, from its two asymptotic
+    directions (traced forward and backward), as the clockwise turning angle in [0, 2 pi)."""
+    rays = wv.trace(metric, [-r0, 0.0, 0.0], [direction, -np.asarray(direction)], **kw)
+    assert rays.status_names.tolist() == ["escaped", "escaped"], rays
+    n_out, n_in = rays.final_directions[0], -rays.final_directions[1]
+    turn = math.atan2(np.cross(n_in, n_out)[2], float(n_in @ n_out))
+    return (-turn) % (2 * math.pi)
+
+
+def metric_instances():
+    return [wv.Minkowski(), wv.Schwarzschild(mass=1.0), wv.Kerr(mass=1.0, spin=0.9), wv.EllisWormhole(throat=1.0)]

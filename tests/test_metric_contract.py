@@ -1,0 +1,103 @@
+"""The Metric contract, checked for every metric compiled into the core (GYOTO/Gradus style)."""
+
+import numpy as np
+import pytest
+
+import warpviz as wv
+from warpviz._native import core
+from warpviz.metrics import _CLASSES
+
+from conftest import metric_instances
+
+METRICS = metric_instances()
+IDS = [m.name for m in METRICS]
+
+
+def test_every_registered_metric_has_a_python_class_and_is_tested():
+    registered = {m["name"] for m in wv.registered_metrics()}
+    assert registered == set(_CLASSES) == set(IDS)
+    for entry in wv.registered_metrics():
+        assert entry["invariants"][0] == "H"
+        assert entry["params"] == list(_CLASSES[entry["name"]]._param_names)
+
+
+def random_states(metric, n, rng):
+    """States with positions outside any horizon/throat, near the axis and near the Kerr disk."""
+    pos = rng.normal(size=(n, 3)) * 6.0
+    pos[: n // 4, :2] *= 1e-3  # near the spin axis
+    pos[n // 4 : n // 2, 2] *= 1e-3  # near the equatorial plane
+    r = np.linalg.norm(pos, axis=1)
+    pos *= (np.maximum(r, 2.5) / r)[:, None]
+    ys = np.zeros((n, 8))
+    ys[:, 0] = rng.normal(size=n)
+    ys[:, 1:4] = pos
+    ys[:, 4] = -1.0
+    ys[:, 5:] = rng.normal(size=(n, 3))
+    return ys
+
+
+@pytest.mark.parametrize("metric", METRICS, ids=IDS)
+def test_hand_written_derivatives_match_dual_numbers(metric):
+    """Hand-written Hamilton equations (dg^{mu nu}/dx contracted with p) equal the dual-number ones."""
+    rng = np.random.default_rng(7)
+    for y in random_states(metric, 400, rng):
+        hand = core.rhs(metric.name, metric.param_values, y)
+        auto = core.rhs(metric.name, metric.param_values, y, autodiff=True)
+        scale = np.max(np.abs(auto))
+        np.testing.assert_allclose(hand, auto, rtol=0, atol=1e-12 * scale)
+
+
+@pytest.mark.parametrize("metric", METRICS, ids=IDS)
+def test_inverse_metric_is_symmetric_and_stationary(metric):
+    rng = np.random.default_rng(3)
+    for y in random_states(metric, 50, rng):
+        gi = core.inverse_metric(metric.name, metric.param_values, y[:4])
+        np.testing.assert_allclose(gi, gi.T, rtol=1e-15, atol=1e-15)
+        dy = core.rhs(metric.name, metric.param_values, y)
+        assert dy[4] == 0.0  # p_t conserved: no metric depends on t
+
+
+@pytest.mark.parametrize("metric", METRICS, ids=IDS)
+def test_local_frame_gives_null_momentum_and_round_trips(metric):
+    """Initial momenta are null (H = 0 to rounding) and have unit energy for the local observer."""
+    rng = np.random.default_rng(11)
+    for _ in range(100):
+        pos = rng.normal(size=3)
+        pos *= rng.uniform(3.0, 40.0) / np.linalg.norm(pos)
+        n = rng.normal(size=3)
+        n /= np.linalg.norm(n)
+        y = core.initial_state(metric.name, metric.param_values, pos, n, 1)
+        gi = core.inverse_metric(metric.name, metric.param_values, y[:4])
+        p = y[4:]
+        h = 0.5 * p @ gi @ p
+        assert abs(h) < 1e-13 * (p @ p)
+        inv = core.invariants(metric.name, metric.param_values, y)
+        assert abs(inv[0] - h) < 1e-14 * (p @ p)
+
+
+@pytest.mark.parametrize("metric", METRICS[1:], ids=IDS[1:])
+def test_conserved_quantities_are_conserved_by_the_flow(metric):
+    """d/dlambda of every invariant along Hamilton's equations vanishes (finite differences)."""
+    rng = np.random.default_rng(5)
+    for y in random_states(metric, 40, rng):
+        dy = core.rhs(metric.name, metric.param_values, y)
+        eps = 1e-6
+        ip = core.invariants(metric.name, metric.param_values, y + eps * dy)
+        im = core.invariants(metric.name, metric.param_values, y - eps * dy)
+        rate = (ip - im) / (2 * eps)
+        scale = np.maximum(np.abs(core.invariants(metric.name, metric.param_values, y)), 1.0)
+        assert np.all(np.abs(rate[1:]) < 1e-6 * scale[1:] * np.linalg.norm(dy)), (rate, scale)
+
+
+@pytest.mark.parametrize("metric", METRICS, ids=IDS)
+@pytest.mark.parametrize("stepper", wv.STEPPERS)
+def test_every_ray_ends_with_a_defined_status_and_finite_output(metric, stepper):
+    rng = np.random.default_rng(2)
+    origins = rng.normal(size=(40, 3))
+    origins *= (rng.uniform(4.0, 30.0, size=40) / np.linalg.norm(origins, axis=1))[:, None]
+    dirs = rng.normal(size=(40, 3))
+    rays = wv.trace(metric, origins, dirs, stepper=stepper, tol=1e-8, escape_radius=100.0)
+    assert set(rays.status_names) <= {"escaped", "horizon"}
+    assert np.isfinite(rays.final_positions).all() and np.isfinite(rays.final_directions).all()
+    np.testing.assert_allclose(np.linalg.norm(rays.final_directions, axis=1), 1.0, atol=1e-12)
+    assert rays.max_drift().max() < 1e-5
