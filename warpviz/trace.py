@@ -47,7 +47,7 @@ def trace(
     record: bool = False,
     sheets: Any = None,
     max_drift: float | None = None,
-    rk4_step: float | None = None,
+    rk4_step: float = 1.0,
     threads: int = 0,
 ) -> RayBundle:
     """Trace null geodesics (light rays) forward from ``origins`` along ``directions``.
@@ -69,8 +69,9 @@ def trace(
         zero-angular-momentum observer inside Kerr's ergoregion), in the frame closest to the x, y, z
         axes. Normalised here; must be non-zero.
     tol : float, keyword-only
-        Local relative + absolute error per step for ``dopri5``/``dop853``; for ``rk4`` it sets the
-        default base step (``tol ** 0.25``). Default 1e-9.
+        Local relative + absolute error per step for ``dopri5``/``dop853``. For ``rk4`` it sets how
+        far the step is halved near the mass: no step exceeds ``tol ** 0.25`` times the distance to
+        the centre. Default 1e-9.
     stepper : {"dopri5", "dop853", "rk4"}, keyword-only
         ``dopri5`` (default, adaptive with dense output), ``dop853`` (high-accuracy reference), ``rk4``
         (the seed paper's fixed step with halving: the benchmark baseline).
@@ -86,8 +87,9 @@ def trace(
     max_drift : float, optional, keyword-only
         Largest relative drift of a conserved quantity before a step is retried smaller and, failing
         that, the ray is marked ``invariant_violation``. Default ``max(1e-6, 1e3 * tol)``.
-    rk4_step : float, optional, keyword-only
-        Base step of ``rk4`` in units of M (default ``tol ** 0.25`` clipped to [1e-4, 0.5]).
+    rk4_step : float, keyword-only
+        Fixed far-field step of ``rk4`` in units of M, halved in powers of two near the mass
+        (default 1.0).
     threads : int, keyword-only
         Worker threads; 0 uses every core.
 
@@ -120,8 +122,6 @@ def trace(
     escape_radius = float(_number("escape_radius", escape_radius, lo=0.0))
     threads = int(_number("threads", threads, lo=-1, hi=4096, integer=True))
     max_drift = max(1e-6, 1e3 * tol) if max_drift is None else float(_number("max_drift", max_drift, lo=0.0))
-    if rk4_step is None:
-        rk4_step = float(np.clip(tol**0.25, 1e-4, 0.5))
     rk4_step = float(_number("rk4_step", rk4_step, lo=0.0))
 
     origins = _rows("origins", origins)

@@ -26,7 +26,7 @@ struct TraceOptions {
   long max_steps = 100000;      // budget of step attempts, accepted or rejected
   double escape_radius = 1e3;   // rays moving outward beyond this radius have escaped
   double max_drift = 1e-6;      // largest allowed relative drift of any conserved quantity
-  double rk4_step = 0.01;       // base step of the seed RK4 method
+  double rk4_step = 1.0;        // base (far-field) step of the seed RK4 method
   bool record = false;          // keep the polyline and per-point data
 };
 
@@ -218,7 +218,9 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     if (!state_finite<M>(y)) return finish(kNaN, y);
 
     const double r_h = m.horizon_radius();
-    constexpr double kappa = 0.05;  // seed RK4: no step longer than kappa times the distance to the centre
+    // Seed RK4: the fixed base step is halved (powers of two) until it is at most kappa times the
+    // distance to the centre, kappa = tol^(1/4) (global error ~ kappa^4).
+    const double kappa = std::min(0.1, std::max(1e-4, std::pow(o.tol, 0.25)));
     auto rk4_step_for = [&](double r) {
       double h = o.rk4_step;
       while (h > kappa * r && h > 1e-12) h *= 0.5;
@@ -242,7 +244,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     if (m.radius(y) >= o.escape_radius && moving_outward(m, y)) {  // starts outside, moving out
       res.sheet = m.chart_to_user(y, sheet, escape_pos);
       escaped = true;
-      if (S::kAdaptive) target = std::max(o.escape_radius, tail_radius(y));
+      target = std::max(o.escape_radius, tail_radius(y));
       if (m.radius(y) >= target) {
         finish(kEscaped, y);
         for (int i = 0; i < 3; ++i) res.pos[i] = escape_pos[i];
@@ -276,7 +278,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
         if (h < h_min) return finish(kNaN, y);
         continue;
       }
-      const double herr = hamiltonian_error(m, ynew);
+      const double herr = hamiltonian_error_from_rhs(ynew, st.derivative_new());
       if (!(herr <= o.max_drift)) {
         // Conserved-quantity monitor: retry smaller; a ray that cannot satisfy it is marked.
         h *= 0.5;
@@ -302,9 +304,9 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
         return finish(kHorizon, ys);
       }
       // Escape: moving outward beyond the escape radius. The final position is the crossing of the
-      // escape sphere (located on the dense output); with an adaptive stepper the direction keeps
-      // integrating, unrecorded, out to the radius where the Born tail's second-order error
-      // ~ 10 l^2 b / R^3 is below tol (cheap: steps grow with r). The fixed-step seed RK4 stops here.
+      // escape sphere (located on the dense output); the direction keeps integrating, unrecorded, out
+      // to the radius where the Born tail's second-order error ~ 10 l^2 b / R^3 is below tol (cheap
+      // for adaptive steppers, whose steps grow with r).
       if (r_new >= target && moving_outward(m, ynew)) {
         if (!escaped) {
           double frac = 1.0;
@@ -325,7 +327,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
           record(ys, lam + frac * h, frac * h);
           res.sheet = m.chart_to_user(ys, sheet, escape_pos);
           escaped = true;
-          if (S::kAdaptive) target = std::max(o.escape_radius, tail_radius(ys));
+          target = std::max(o.escape_radius, tail_radius(ys));
         }
         if (r_new >= target) {
           res.status = kEscaped;

@@ -81,6 +81,18 @@ double hamiltonian_error(const M& m, const double y[8]) {
   return mag > 0.0 ? std::fabs(s) / mag : 0.0;
 }
 
+// The same measure from a state and its Hamilton derivative f = rhs(y), at no extra metric evaluation:
+// dx^mu/dlambda = g^{mu nu} p_nu, so p_mu dx^mu/dlambda = 2H.
+inline double hamiltonian_error_from_rhs(const double y[8], const double f[8]) {
+  double s = 0.0, mag = 0.0;
+  for (int a = 0; a < 4; ++a) {
+    const double t = y[4 + a] * f[a];
+    s += t;
+    mag += std::fabs(t);
+  }
+  return mag > 0.0 ? std::fabs(s) / mag : 0.0;
+}
+
 template <class Derived>
 struct MetricBase {
   // Flat metrics trace straight lines analytically and never step.

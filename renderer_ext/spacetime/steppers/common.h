@@ -6,6 +6,7 @@
 //                                                (<= 1 accept; 0 for fixed-step methods)
 //   void accept()                                the trial step was accepted: reuse f(ynew)
 //   void dense(y, ynew, h, theta, out)           state at y + theta*h within the accepted step
+//   const double* derivative_new()               f(ynew) of the last trial step (for free H checks)
 //   static constexpr bool kAdaptive; static constexpr int kOrder;
 #pragma once
 

@@ -52,6 +52,8 @@ struct Dop853 {
     hermite_dense(y, k[0], ynew, k[S], h, theta, out);
   }
 
+  const double* derivative_new() const { return k[S]; }
+
   void accept() {
     for (int i = 0; i < 8; ++i) k[0][i] = k[S][i];
   }

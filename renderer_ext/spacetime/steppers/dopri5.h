@@ -60,6 +60,8 @@ struct Dopri5 {
     }
   }
 
+  const double* derivative_new() const { return k[6]; }
+
   void accept() {
     for (int i = 0; i < 8; ++i) k[0][i] = k[6][i];
   }

@@ -1,8 +1,8 @@
 // Classical fixed-step Runge-Kutta 4: the seed paper's method and the baseline of every benchmark.
 //
 // The step is a fixed base step, halved in powers of two where the field is strong (geodesic.h picks
-// the level from the distance to the centre) and halved again when the conserved-quantity monitor
-// rejects a step; there is no error estimate. f(ynew) is evaluated once per step and reused as the
+// the level so that h <= tol^(1/4) * r) and halved again when the conserved-quantity monitor rejects
+// a step; there is no error estimate. f(ynew) is evaluated once per step and reused as the
 // next step's first stage, so a step costs four right-hand sides.
 #pragma once
 
@@ -34,6 +34,8 @@ struct Rk4 {
   void dense(const double y[8], const double ynew[8], double h, double theta, double out[8]) const {
     hermite_dense(y, k1, ynew, fnew, h, theta, out);
   }
+
+  const double* derivative_new() const { return fnew; }
 
   void accept() {
     for (int i = 0; i < 8; ++i) k1[i] = fnew[i];
