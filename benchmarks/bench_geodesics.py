@@ -42,8 +42,9 @@ def image_plane(size: int, *, distance: float = 1000.0, inclination_deg: float =
 
 def angular_error(a: wv.RayBundle, ref: wv.RayBundle) -> tuple[float, int]:
     both = (a.status == wv.RayStatus.ESCAPED) & (ref.status == wv.RayStatus.ESCAPED)
-    cos = np.clip(np.einsum("ij,ij->i", a.final_directions[both], ref.final_directions[both]), -1.0, 1.0)
-    err = float(np.max(np.arccos(cos))) if both.any() else 0.0
+    u, v = a.final_directions[both], ref.final_directions[both]
+    angle = np.arctan2(np.linalg.norm(np.cross(u, v), axis=1), np.einsum("ij,ij->i", u, v))  # no arccos floor
+    err = float(np.max(angle)) if both.any() else 0.0
     return err, int(np.count_nonzero(a.status != ref.status))
 
 

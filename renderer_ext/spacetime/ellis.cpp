@@ -98,9 +98,8 @@ struct EllisWormhole : MetricBase<EllisWormhole> {
     return s.str();
   }
 
-  void invariants(const double y[8], double out[]) const {
+  void conserved(const double y[8], double out[]) const {
     const double lx = y[2] * y[7] - y[3] * y[6], ly = y[3] * y[5] - y[1] * y[7], lz = y[1] * y[6] - y[2] * y[5];
-    out[0] = hamiltonian(*this, y);
     out[1] = -y[4];
     out[2] = lx * lx + ly * ly + lz * lz;
   }

@@ -203,7 +203,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     };
     // Evaluates the conserved quantities at ys and updates the running maxima; false on violation.
     auto monitor = [&](const double* ys, double herr) {
-      m.invariants(ys, inv);
+      m.conserved(ys, inv);
       drift[0] = herr;
       bool ok = true;
       for (int k = 1; k < K; ++k) {
@@ -256,7 +256,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     st.init(m, y);
     double r = m.radius(y);
     double h = S::kAdaptive ? 0.01 * std::max(r, m.length_scale()) : rk4_step_for(r);
-    double err_prev = 1e-4;
+    double log_err_prev = std::log(1e-4);
     bool last_rejected = false;
     bool reinit = false;
     long attempts = 0;
@@ -290,7 +290,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
       ++res.n_steps;
       const double r_new = m.radius(ynew);
       // Horizon: locate the crossing r = r_h on the dense output so the path ends on the horizon.
-      if (m.absorbed(ynew)) {
+      if (r_new < r_h) {
         double lo = 0.0, hi = 1.0;
         for (int it = 0; it < 60; ++it) {
           const double mid = 0.5 * (lo + hi);
@@ -348,12 +348,12 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
       if constexpr (S::kAdaptive) {
         // PI step-size control (Gustafsson; Hairer & Wanner's constants).
         constexpr double beta = 0.04, alpha = 1.0 / S::kOrder - 0.75 * beta;
-        const double en = std::max(e, 1e-10);
-        double fac = 0.9 * std::pow(en, -alpha) * std::pow(err_prev, beta);
+        const double log_e = std::log(std::max(e, 1e-10));
+        double fac = 0.9 * std::exp(beta * log_err_prev - alpha * log_e);
         fac = std::min(5.0, std::max(0.2, fac));
         if (last_rejected) fac = std::min(fac, 1.0);
         h *= fac;
-        err_prev = std::max(e, 1e-4);
+        log_err_prev = std::log(std::max(e, 1e-4));
         h = std::min(h, 0.5 * std::max(r, m.length_scale()));
       } else {
         h = rk4_step_for(r);

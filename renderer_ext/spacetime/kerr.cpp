@@ -84,23 +84,21 @@ struct Kerr : MetricBase<Kerr> {
 
   double radius(const double* x) const { return bl_radius(x[1], x[2], x[3]); }
   double horizon_radius() const { return r_plus; }
-  bool absorbed(const double* x) const { return radius(x) < r_plus; }
   double length_scale() const { return M; }
 
-  void invariants(const double y[8], double out[]) const {
+  void conserved(const double y[8], double out[]) const {
     const double x = y[1], yy = y[2], z = y[3], px = y[5], py = y[6], pz = y[7];
     const double r = bl_radius(x, yy, z);
     const double E = -y[4];
     const double c = z / r;                                // cos(theta)
     const double s2 = (x * x + yy * yy) / (r * r + a * a);  // sin^2(theta), no cancellation near the axis
-    out[0] = hamiltonian(*this, y);
     out[1] = E;
     out[2] = x * py - yy * px;
     // p_theta^2 + cot^2(theta) Lz^2, with x^2 + y^2 = (r^2 + a^2) sin^2(theta), regular on the axis
     const double ptheta2_lz = c * c * (r * r + a * a) * (px * px + py * py) - 2.0 * r * c * (x * px + yy * py) * pz +
                               r * r * s2 * pz * pz;
     // Carter's constant for any mass mu^2 = -2H (0 on null rays), so it is exactly conserved by the flow.
-    const double mu2 = -2.0 * out[0];
+    const double mu2 = -2.0 * hamiltonian(*this, y);
     out[3] = ptheta2_lz + a * a * c * c * (mu2 - E * E);
   }
   void invariant_scales(const double y[8], const double inv[], double scale[]) const {

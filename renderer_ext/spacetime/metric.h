@@ -9,7 +9,8 @@
 //   template <class T> void inverse_metric(const T x[4], T gi[4][4]) const;
 //                                                             g^{mu nu}(x); T is double or Dual<4>
 //   double radius(const double x[4]) const;                   areal / Boyer-Lindquist radius
-//   void invariants(const double y[8], double out[]) const;   conserved quantities at state y
+//   void conserved(const double y[8], double out[]) const;    conserved quantities 1..K-1 at state y
+//                                                             (out[0], H, is filled by invariants())
 //   void invariant_scales(const double y[8], const double inv[], double scale[]) const;
 //                                                             normalisation of each relative drift
 //
@@ -103,9 +104,15 @@ struct MetricBase {
   // Hamilton's equations; metrics override this with a hand-written version for speed.
   void rhs(const double y[8], double dy[8]) const { rhs_autodiff(self(), y, dy); }
 
-  // Outer horizon radius (0 if none) and whether a point is inside it (ray absorbed).
+  // All invariants: out[0] = H, then the metric's conserved quantities.
+  void invariants(const double y[8], double out[]) const {
+    out[0] = hamiltonian(self(), y);
+    self().conserved(y, out);
+  }
+
+  // Outer horizon radius (0 if none); a ray whose radius drops below it is absorbed.
   double horizon_radius() const { return 0.0; }
-  bool absorbed(const double* /*x*/) const { return false; }
+  bool absorbed(const double* x) const { return self().radius(x) < self().horizon_radius(); }
 
   // Length scale of the strong-field region, used by the seed RK4 step halving and drift scales.
   double length_scale() const { return 1.0; }

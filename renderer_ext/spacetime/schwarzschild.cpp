@@ -56,12 +56,10 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
 
   double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }
   double horizon_radius() const { return 2.0 * M; }
-  bool absorbed(const double* x) const { return radius(x) < 2.0 * M; }
   double length_scale() const { return M; }
 
-  void invariants(const double y[8], double out[]) const {
+  void conserved(const double y[8], double out[]) const {
     const double lx = y[2] * y[7] - y[3] * y[6], ly = y[3] * y[5] - y[1] * y[7], lz = y[1] * y[6] - y[2] * y[5];
-    out[0] = hamiltonian(*this, y);
     out[1] = -y[4];
     out[2] = lz;
     out[3] = lx * lx + ly * ly + lz * lz;
