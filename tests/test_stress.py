@@ -1,0 +1,62 @@
+"""Numerical stress: near-critical windings, extreme spins, rays along and through the axis, the Ellis
+throat's photon orbit, huge inputs and extreme tolerances. Every ray must end with a defined status,
+finite output and its drift within tolerance."""
+
+import math
+
+import numpy as np
+import pytest
+
+import warpviz as wv
+
+from conftest import launch_direction
+
+B_CRIT = 3.0 * math.sqrt(3.0)
+
+
+def assert_sane(rays, drift=1e-8):
+    assert np.isin(rays.status, [s.value for s in wv.RayStatus]).all()
+    assert np.isfinite(rays.final_positions).all() and np.isfinite(rays.final_directions).all()
+    for name, v in rays.invariant_drift.items():
+        assert v.max() < drift, name
+
+
+@pytest.mark.parametrize("eps", [1e-2, 1e-4, 1e-6, 1e-8])
+def test_near_critical_impact_parameters_wind_and_split_correctly(eps):
+    d = [launch_direction(1e3, B_CRIT * (1 + eps)), launch_direction(1e3, B_CRIT * (1 - eps))]
+    rays = wv.trace(wv.Schwarzschild(mass=1.0), [-1e3, 0, 0], d, tol=1e-10)
+    assert rays.status_names.tolist() == ["escaped", "horizon"]
+    assert_sane(rays)
+
+
+@pytest.mark.parametrize("spin", [0.0, 0.999999, -0.9])
+def test_rays_along_the_spin_axis_and_over_the_poles(spin):
+    k = wv.Kerr(mass=1.0, spin=spin)
+    axis = wv.trace(k, [0, 0, 50.0], [[0, 0, -1.0], [0, 0, 1.0]], tol=1e-10)
+    assert axis.status_names.tolist() == ["horizon", "escaped"]
+    np.testing.assert_allclose(axis.final_positions[0], [0, 0, k.horizon_radius], atol=1e-9)
+    assert_sane(axis)
+    pole = wv.trace(k, [-40.0, 0, 0], [math.cos(0.2), 0, math.sin(0.2)], tol=1e-10)
+    assert_sane(pole, drift=1e-9)
+
+
+@pytest.mark.parametrize("b", [1 - 1e-9, 1.0, 1 + 1e-9])
+def test_ellis_rays_at_the_throat_radius(b):
+    rays = wv.trace(wv.EllisWormhole(throat=1.0), [-100.0, 0, 0], launch_direction(100.0, b, mass=0.0), tol=1e-10)
+    assert rays.status_names[0] == "escaped"
+    assert_sane(rays)
+
+
+def test_the_throat_photon_orbit_ends_on_its_step_budget():
+    rays = wv.trace(wv.EllisWormhole(throat=1.0), [1.0, 0, 0], [0, 1.0, 0], tol=1e-10, max_steps=20_000)
+    assert rays.status_names[0] == "max_steps"
+    assert_sane(rays, drift=1e-6)
+
+
+def test_huge_origins_and_extreme_tolerances():
+    bh = wv.Schwarzschild(mass=1.0)
+    assert_sane(wv.trace(bh, [1e12, 0, 0], [[-1.0, 0, 0], [-1.0, 1e-11, 0]], tol=1e-9), drift=1e-8)
+    tight = wv.trace(bh, [-50.0, 0, 0], [1.0, 0.1, 0], tol=1e-15)
+    assert_sane(tight, drift=1e-13)
+    loose = wv.trace(bh, [-50.0, 0, 0], [[1.0, 0.1, 0], [1, 0.15, 0]], tol=1e-3)
+    assert loose.status_names.tolist() == ["horizon", "escaped"]
