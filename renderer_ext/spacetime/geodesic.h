@@ -109,8 +109,7 @@ void asymptotic_direction(const M& m, const double y[8], double dir[3]) {
   for (int i = 0; i < 3; ++i) dir[i] = pn > 0.0 ? p[i] / pn : 0.0;
 }
 
-template <class M>
-bool state_finite(const double y[8]) {
+inline bool state_finite(const double y[8]) {
   for (int i = 0; i < 8; ++i)
     if (!std::isfinite(y[i])) return false;
   return true;
@@ -197,7 +196,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
         const double n = std::sqrt(f[1] * f[1] + f[2] * f[2] + f[3] * f[3]);
         for (int i = 0; i < 3; ++i) res.dir[i] = (n > 0.0 && std::isfinite(n)) ? f[1 + i] / n : 0.0;
       }
-      if (!state_finite<M>(ys)) {
+      if (!state_finite(ys)) {
         for (int i = 0; i < 3; ++i) res.pos[i] = res.dir[i] = 0.0;
       }
     };
@@ -215,7 +214,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     };
 
     record(y, 0.0, 0.0);
-    if (!state_finite<M>(y)) return finish(kNaN, y);
+    if (!state_finite(y)) return finish(kNaN, y);
 
     const double r_h = m.horizon_radius();
     // Seed RK4: the fixed base step is halved (powers of two) until it is at most kappa times the
@@ -238,18 +237,19 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
       return std::cbrt(10.0 * ell * ell * b / o.tol);
     };
     double target = o.escape_radius;
-    bool escaped = false;
+    bool escaped = false;  // crossed the escape sphere; still integrating for the direction
     double escape_pos[3];
+    auto finish_escaped = [&](const double* ys) {
+      res.status = kEscaped;
+      asymptotic_direction(m, ys, res.dir);
+      for (int i = 0; i < 3; ++i) res.pos[i] = escape_pos[i];
+    };
 
     if (m.radius(y) >= o.escape_radius && moving_outward(m, y)) {  // starts outside, moving out
       res.sheet = m.chart_to_user(y, sheet, escape_pos);
       escaped = true;
       target = std::max(o.escape_radius, tail_radius(y));
-      if (m.radius(y) >= target) {
-        finish(kEscaped, y);
-        for (int i = 0; i < 3; ++i) res.pos[i] = escape_pos[i];
-        return;
-      }
+      if (m.radius(y) >= target) return finish_escaped(y);
     }
 
     S st;
@@ -262,11 +262,11 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     long attempts = 0;
     double ynew[8], ys[8];
     while (true) {
-      if (attempts >= o.max_steps) return finish(kMaxSteps, y);
+      if (attempts >= o.max_steps) return escaped ? finish_escaped(y) : finish(kMaxSteps, y);
       ++attempts;
       const double h_min = 1e-12 * std::max(1.0, r);
       const double e = st.attempt(m, y, h, o.tol, ynew);
-      if (!state_finite<M>(ynew) || !std::isfinite(e)) {
+      if (!state_finite(ynew) || !std::isfinite(e)) {
         h *= 0.25;
         last_rejected = true;
         if (h < h_min) return finish(kNaN, y);
@@ -329,12 +329,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
           escaped = true;
           target = std::max(o.escape_radius, tail_radius(ys));
         }
-        if (r_new >= target) {
-          res.status = kEscaped;
-          asymptotic_direction(m, ynew, res.dir);
-          for (int i = 0; i < 3; ++i) res.pos[i] = escape_pos[i];
-          return;
-        }
+        if (r_new >= target) return finish_escaped(ynew);
       }
       const bool ok = monitor(ynew, herr);
       lam += h;
