@@ -6,8 +6,8 @@ the geometry lives in C++. Units are geometric (G = c = 1), lengths in units of 
 Examples
 --------
 >>> import warpviz as wv
->>> wv.Kerr(mass=1.0, spin=0.9).horizon_radius
-1.4358898943540673
+>>> round(wv.Kerr(mass=1.0, spin=0.9).horizon_radius, 12)
+1.435889894354
 >>> wv.Schwarzschild(mass=2.0).photon_sphere_radius
 6.0
 """
