@@ -185,17 +185,14 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
       for (int k = 0; k < K; ++k) track->cols.push_back(drift[k]);
       track->cols.push_back(double(sh));
     };
+    // Ends a ray that did not escape: its direction is the coordinate direction of motion.
     auto finish = [&](int status, const double* ys) {
       res.status = status;
       res.sheet = m.chart_to_user(ys, sheet, res.pos);
-      if (status == kEscaped) {
-        asymptotic_direction(m, ys, res.dir);
-      } else {
-        double f[8];
-        m.rhs(ys, f);
-        const double n = std::sqrt(f[1] * f[1] + f[2] * f[2] + f[3] * f[3]);
-        for (int i = 0; i < 3; ++i) res.dir[i] = (n > 0.0 && std::isfinite(n)) ? f[1 + i] / n : 0.0;
-      }
+      double f[8];
+      m.rhs(ys, f);
+      const double n = std::sqrt(f[1] * f[1] + f[2] * f[2] + f[3] * f[3]);
+      for (int i = 0; i < 3; ++i) res.dir[i] = (n > 0.0 && std::isfinite(n)) ? f[1 + i] / n : 0.0;
       if (!state_finite(ys)) {
         for (int i = 0; i < 3; ++i) res.pos[i] = res.dir[i] = 0.0;
       }
