@@ -102,9 +102,8 @@ struct Kerr : MetricBase<Kerr> {
     out[3] = ptheta2_lz + a * a * c * c * (mu2 - E * E);
   }
   void invariant_scales(const double y[8], const double inv[], double scale[]) const {
-    const double pmag = std::sqrt(y[4] * y[4] + y[5] * y[5] + y[6] * y[6] + y[7] * y[7]);
     scale[0] = 1.0;
-    scale[1] = std::max(std::fabs(inv[1]), 1e-3 * pmag);
+    scale[1] = energy_scale(y, inv[1]);
     scale[2] = std::max(std::fabs(inv[2]), M * scale[1]);
     scale[3] = std::max(std::fabs(inv[3]), M * M * scale[1] * scale[1]);
   }

@@ -94,6 +94,20 @@ inline double hamiltonian_error_from_rhs(const double y[8], const double f[8]) {
   return mag > 0.0 ? std::fabs(s) / mag : 0.0;
 }
 
+// Angular momentum L = x cross p (the rotation Killing fields contracted with p), Cartesian charts.
+inline void angular_momentum(const double y[8], double l[3]) {
+  l[0] = y[2] * y[7] - y[3] * y[6];
+  l[1] = y[3] * y[5] - y[1] * y[7];
+  l[2] = y[1] * y[6] - y[2] * y[5];
+}
+
+// Scale of the relative energy drift: |E|, or 1e-3 of the momentum's size where E is near zero
+// (negative-energy orbits in an ergoregion).
+inline double energy_scale(const double y[8], double energy) {
+  const double pmag = std::sqrt(y[4] * y[4] + y[5] * y[5] + y[6] * y[6] + y[7] * y[7]);
+  return std::fmax(std::fabs(energy), 1e-3 * pmag);
+}
+
 template <class Derived>
 struct MetricBase {
   // Flat metrics trace straight lines analytically and never step.

@@ -59,15 +59,15 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
   double length_scale() const { return M; }
 
   void conserved(const double y[8], double out[]) const {
-    const double lx = y[2] * y[7] - y[3] * y[6], ly = y[3] * y[5] - y[1] * y[7], lz = y[1] * y[6] - y[2] * y[5];
+    double l[3];
+    angular_momentum(y, l);
     out[1] = -y[4];
-    out[2] = lz;
-    out[3] = lx * lx + ly * ly + lz * lz;
+    out[2] = l[2];
+    out[3] = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
   }
   void invariant_scales(const double y[8], const double inv[], double scale[]) const {
-    const double pmag = std::sqrt(y[4] * y[4] + y[5] * y[5] + y[6] * y[6] + y[7] * y[7]);
     scale[0] = 1.0;
-    scale[1] = std::max(std::fabs(inv[1]), 1e-3 * pmag);
+    scale[1] = energy_scale(y, inv[1]);
     scale[2] = std::max(std::fabs(inv[2]), M * scale[1]);
     scale[3] = std::max(inv[3], M * M * scale[1] * scale[1]);
   }
