@@ -13,6 +13,19 @@ from warpviz._native import build_info, registered_metrics
 from warpviz.metrics import EllisWormhole, Kerr, Metric, Minkowski, Schwarzschild, metric_from_dict
 from warpviz.rays import RayBundle, RayStatus
 from warpviz.trace import STEPPERS, trace
+from warpviz.io import atomic_write, read_rays, write_vtm, write_vtp
+from warpviz.geometry import (
+    camera_frustum,
+    ellis_embedding,
+    ellis_embedding_points,
+    ergosphere_surface,
+    horizon_surface,
+    metric_features,
+    photon_sphere,
+    scene_surfaces,
+    throat_surface,
+)
+from warpviz.export import save_scene_vtm, scene_multiblock
 
 __version__ = "0.1.0"
 
@@ -30,4 +43,19 @@ __all__ = [
     "registered_metrics",
     "trace",
     "__version__",
+    "atomic_write",
+    "read_rays",
+    "write_vtm",
+    "write_vtp",
+    "camera_frustum",
+    "ellis_embedding",
+    "ellis_embedding_points",
+    "ergosphere_surface",
+    "horizon_surface",
+    "metric_features",
+    "photon_sphere",
+    "scene_surfaces",
+    "throat_surface",
+    "save_scene_vtm",
+    "scene_multiblock",
 ]

@@ -4,11 +4,17 @@ recorded, their polylines and per-point data."""
 from __future__ import annotations
 
 import enum
+import os
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from warpviz.metrics import Metric
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pyvista as pv
 
 
 class RayStatus(enum.IntEnum):
@@ -20,6 +26,10 @@ class RayStatus(enum.IntEnum):
     MAX_STEPS = 3  #: ran out of its step budget
     INVARIANT_VIOLATION = 4  #: a conserved quantity drifted beyond ``max_drift``
     NAN = 5  #: numerical breakdown (non-finite state or step-size underflow)
+
+
+#: Cell arrays :meth:`RayBundle.to_pyvista` always writes (``max_drift*`` besides).
+_CELL_ARRAYS = ("ray_id", "status", "n_steps")
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,6 +68,10 @@ class RayBundle:
         Per-point arrays of shape (P,): ``affine_param``, ``coord_time``, ``r`` (areal / Boyer–Lindquist
         radius), ``step_size``, ``hamiltonian_err``, ``<invariant>_drift`` for each invariant but H,
         ``log10_error`` (log10 of the largest of those errors), ``sheet`` (int8).
+    ray_data : dict[str, numpy.ndarray]
+        Extra per-ray arrays of shape (N,), any numeric dtype, e.g. ``pixel_x``, ``pixel_y``,
+        ``sample``, ``bounce`` for paths recorded by the renderer. Empty for :func:`warpviz.trace`.
+        They become cell data in :meth:`to_pyvista`.
     """
 
     metric: Metric
@@ -72,6 +86,19 @@ class RayBundle:
     points: np.ndarray | None = None
     offsets: np.ndarray | None = None
     point_data: dict[str, np.ndarray] = field(default_factory=dict)
+    ray_data: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        n = len(self)
+        checked = {}
+        for name, values in self.ray_data.items():
+            name, values = str(name), np.asarray(values)
+            if values.shape != (n,):
+                raise ValueError(f"ray_data[{name!r}] must have shape ({n},) (one value per ray), got {values.shape}")
+            if name in _CELL_ARRAYS or name.startswith("max_drift"):
+                raise ValueError(f"ray_data[{name!r}]: the name is taken by a built-in per-ray array")
+            checked[name] = values
+        object.__setattr__(self, "ray_data", checked)
 
     def __len__(self) -> int:
         return int(self.status.shape[0])
@@ -107,6 +134,110 @@ class RayBundle:
     def max_drift(self) -> np.ndarray:
         """Largest relative drift of any conserved quantity per ray, shape (N,) float64."""
         return np.max(np.stack(list(self.invariant_drift.values())), axis=0)
+
+    def to_pyvista(self) -> pv.PolyData:
+        """The recorded paths as VTK polylines with all their data.
+
+        Returns
+        -------
+        pyvista.PolyData
+            ``points`` (P, 3) float64 and one polyline cell per ray, in ray order, so cell ``i`` is
+            ray ``i`` (a ray with 0 recorded points is an empty cell, one with 1 point a one-point
+            polyline). Attached data:
+
+            * point data: every array of :attr:`point_data`, shape (P,), dtypes kept
+              (``affine_param``, ``coord_time``, ``r``, ``step_size``, ``hamiltonian_err``,
+              ``<invariant>_drift``, ``log10_error`` float64; ``sheet`` int8).
+            * cell data, shape (N,): ``ray_id`` int64, ``status`` int8 (:class:`RayStatus` codes),
+              ``n_steps`` int64, ``max_drift_<invariant>`` float64 for each entry of
+              :attr:`invariant_drift` (e.g. ``max_drift_H``, ``max_drift_E``), ``max_drift``
+              float64 (largest of those), and every array of :attr:`ray_data`.
+            * field data: ``metric`` (str, 1), ``metric_params`` float64 (k,) with
+              ``metric_param_names`` str (k,), ``stepper`` (str, 1), ``tol`` float64 (1,),
+              ``warpviz_version`` (str, 1), ``status_legend`` str (6,): the status name of each
+              code.
+
+        Raises
+        ------
+        ValueError
+            The bundle has no paths: it was traced without ``record=True``.
+
+        Examples
+        --------
+        >>> import warpviz as wv
+        >>> rays = wv.trace(wv.Schwarzschild(mass=1.0), [-50.0, 0, 0], [[1, 0, 0], [1, 0.2, 0]], record=True)
+        >>> poly = rays.to_pyvista()
+        >>> poly.n_cells, poly.cell_data["status"].tolist(), poly.field_data["metric"].tolist()
+        (2, [2, 0], ['schwarzschild'])
+        """
+        import pyvista as pv
+
+        from warpviz import __version__
+
+        if self.points is None or self.offsets is None:
+            raise ValueError("this RayBundle has no recorded paths: trace with record=True to get paths")
+        n = len(self)
+        points = np.ascontiguousarray(self.points, dtype=np.float64)
+        offsets = np.asarray(self.offsets, dtype=np.int64)
+        n_points = points.shape[0]
+        if offsets.shape != (n + 1,) or offsets[0] != 0 or offsets[-1] != n_points or np.any(np.diff(offsets) < 0):
+            raise ValueError(f"offsets must rise from 0 to {n_points} in {n + 1} entries, got {offsets.shape[0]}")
+
+        # VTK's legacy cell layout: for each ray its point count, then its point ids.
+        cells = np.empty(n + n_points, dtype=np.int64)
+        heads = offsets[:-1] + np.arange(n)
+        is_id = np.ones(cells.shape[0], dtype=bool)
+        is_id[heads] = False
+        cells[heads] = np.diff(offsets)
+        cells[is_id] = np.arange(n_points)
+
+        poly = pv.PolyData()
+        poly.points = points
+        poly.lines = cells
+        for name, values in self.point_data.items():
+            poly.point_data[name] = np.asarray(values)
+
+        poly.cell_data["ray_id"] = np.arange(n, dtype=np.int64)
+        poly.cell_data["status"] = np.asarray(self.status, dtype=np.int8)
+        poly.cell_data["n_steps"] = np.asarray(self.n_steps, dtype=np.int64)
+        for name, values in self.invariant_drift.items():
+            poly.cell_data[f"max_drift_{name}"] = np.asarray(values, dtype=np.float64)
+        if self.invariant_drift:
+            poly.cell_data["max_drift"] = self.max_drift()
+        for name, values in self.ray_data.items():
+            poly.cell_data[name] = values
+
+        fields = poly.field_data
+        fields["metric"] = [self.metric.name]
+        fields["metric_params"] = np.asarray(self.metric.param_values, dtype=np.float64)
+        fields["metric_param_names"] = np.asarray(list(self.metric.params), dtype=str)
+        fields["stepper"] = [self.stepper]
+        fields["tol"] = np.array([self.tol], dtype=np.float64)
+        fields["warpviz_version"] = [__version__]
+        fields["status_legend"] = [s.name.lower() for s in RayStatus]
+        return poly
+
+    def save(self, path: str | os.PathLike) -> Path:
+        """Write :meth:`to_pyvista` to a ``.vtp`` file atomically (see :func:`warpviz.write_vtp`).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            Destination ending in ``.vtp``; an existing file is replaced.
+
+        Returns
+        -------
+        pathlib.Path
+            ``path``.
+
+        Raises
+        ------
+        ValueError
+            Wrong suffix ("expected a .vtp file"), or no recorded paths (trace with ``record=True``).
+        """
+        from warpviz.io import write_vtp
+
+        return write_vtp(self.to_pyvista(), path)
 
     def __repr__(self) -> str:
         counts = ", ".join(f"{k}={v}" for k, v in self.counts().items())
