@@ -13,6 +13,8 @@ from warpviz._native import build_info, registered_metrics
 from warpviz.metrics import EllisWormhole, Kerr, Metric, Minkowski, Schwarzschild, metric_from_dict
 from warpviz.rays import RayBundle, RayStatus
 from warpviz.trace import STEPPERS, trace
+from warpviz.image import Image
+from warpviz.render import render
 from warpviz.io import atomic_write, read_rays, write_vtm, write_vtp
 from warpviz.geometry import (
     camera_frustum,
@@ -43,6 +45,8 @@ __all__ = [
     "registered_metrics",
     "trace",
     "__version__",
+    "Image",
+    "render",
     "atomic_write",
     "read_rays",
     "write_vtm",

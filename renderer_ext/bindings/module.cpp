@@ -5,12 +5,15 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
+#include <chrono>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "bindings/scene_dict.h"
 #include "core/parallel.h"
 #include "core/registry.h"
 
@@ -107,6 +110,156 @@ nb::dict trace(const std::string& metric, const std::vector<double>& params, F64
   return out;
 }
 
+
+template <class T>
+T option(const nb::dict& o, const char* key, T dflt) {
+  if (!o.contains(key) || o[key].is_none()) return dflt;
+  T v;
+  if (!nb::try_cast<T>(o[key], v)) throw std::invalid_argument(std::string("render option '") + key + "' has the wrong type");
+  return v;
+}
+
+nb::dict render(nb::dict scene, nb::dict options) {
+  if (!scene.contains("metric")) throw std::invalid_argument("scene.metric is missing");
+  nb::dict md = nb::cast<nb::dict>(scene["metric"]);
+  const std::string metric = nb::cast<std::string>(md["name"]);
+  const std::vector<double> params = md.contains("params") ? nb::cast<std::vector<double>>(md["params"]) : std::vector<double>{};
+  auto st = wv::make_spacetime(metric, params);
+  wv::Scene sc;
+  wv::scene_from_dict(scene, sc);
+  {
+    const std::string why = st->origin_problem(&sc.camera.position.x, sc.camera.sheet);
+    if (!why.empty()) throw std::invalid_argument("camera.position " + why);
+  }
+  wv::RenderOptions o;
+  o.spp = option<int>(options, "spp", 16);
+  o.seed = uint64_t(option<long long>(options, "seed", 0));
+  o.max_depth = option<int>(options, "max_depth", 8);
+  o.rr_depth = option<int>(options, "rr_depth", 3);
+  o.light_sampling = option<bool>(options, "light_sampling", true);
+  o.trace.tol = option<double>(options, "tol", 1e-8);
+  o.trace.max_steps = option<long>(options, "max_steps", 20000);
+  o.trace.escape_radius = option<double>(options, "escape_radius", 1e3);
+  o.trace.max_drift = option<double>(options, "max_drift", std::max(1e-6, 1e3 * o.trace.tol));
+  o.chord_tol = option<double>(options, "chord_tolerance", 1e-3);
+  o.threads = option<int>(options, "threads", 0);
+  const auto stepper = stepper_kind(option<std::string>(options, "stepper", "dopri5"));
+  if (o.spp < 1) throw std::invalid_argument("spp must be >= 1");
+  if (o.max_depth < 1) throw std::invalid_argument("max_depth must be >= 1");
+  if (!(o.trace.tol > 0 && o.trace.tol < 1)) throw std::invalid_argument("tol must be in (0, 1)");
+  if (!(o.chord_tol > 0)) throw std::invalid_argument("chord_tolerance must be > 0");
+  if (options.contains("record_pixels") && !options["record_pixels"].is_none()) {
+    nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu> rp;
+    if (!nb::try_cast(options["record_pixels"], rp) || rp.ndim() != 2 || rp.shape(1) != 2)
+      throw std::invalid_argument("record_pixels must be an int32 array of shape (K, 2)");
+    o.record_pixels.assign(rp.data(), rp.data() + rp.size());
+  }
+  nb::object progress = options.contains("progress") ? nb::object(options["progress"]) : nb::none();
+  bool interrupted = false;
+  std::exception_ptr callback_error;
+  o.poll = [&](int64_t done, int64_t total) {
+    nb::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) {
+      PyErr_Clear();  // keep the partial image; Python reports the interruption
+      interrupted = true;
+      return false;
+    }
+    if (!progress.is_none()) {
+      try {
+        progress(done, total);
+      } catch (nb::python_error& e) {
+        if (e.matches(PyExc_KeyboardInterrupt)) interrupted = true;
+        else callback_error = std::current_exception();
+        return false;
+      }
+    }
+    return true;
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  wv::RenderResult r;
+  {
+    nb::gil_scoped_release release;
+    r = st->render(sc, o, stepper);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (callback_error) std::rethrow_exception(callback_error);
+  if (!progress.is_none() && r.completed && !interrupted) {
+    const int64_t total = int64_t(r.film.width) * r.film.height * o.spp;
+    progress(total, total);
+  }
+
+  const wv::Film& f = r.film;
+  const size_t W = size_t(f.width), H = size_t(f.height), n = W * H;
+  std::vector<float> rgb(3 * n), steps(n), errors(n), samples(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double c = f.samples[i] > 0 ? 1.0 / f.samples[i] : 0.0;
+    for (int k = 0; k < 3; ++k) rgb[3 * i + k] = float(f.rgb_sum[3 * i + k] * c);
+    steps[i] = float(f.steps_sum[i] * c);
+    errors[i] = float(f.errors[i] * c);
+    samples[i] = float(f.samples[i]);
+  }
+  nb::dict out, aovs, stats;
+  out["rgb"] = to_numpy(std::move(rgb), {H, W, 3});
+  aovs["redshift"] = to_numpy(std::vector<float>(f.redshift), {H, W});
+  aovs["n_steps"] = to_numpy(std::move(steps), {H, W});
+  aovs["max_drift"] = to_numpy(std::vector<float>(f.max_drift), {H, W});
+  aovs["status"] = to_numpy(std::vector<float>(f.status), {H, W});
+  aovs["depth"] = to_numpy(std::vector<float>(f.depth), {H, W});
+  aovs["normal"] = to_numpy(std::vector<float>(f.normal), {H, W, 3});
+  aovs["errors"] = to_numpy(std::move(errors), {H, W});
+  aovs["samples"] = to_numpy(std::move(samples), {H, W});
+  out["aovs"] = aovs;
+  out["completed"] = r.completed && !interrupted;
+  const char* status_names[] = {"escaped", "hit", "horizon", "max_steps", "invariant_violation", "nan"};
+  nb::dict counts;
+  for (int k = 0; k < 6; ++k) counts[status_names[k]] = r.status_counts[k];
+  stats["segments_by_status"] = counts;
+  stats["segments"] = r.segments;
+  stats["steps"] = r.total_steps;
+  stats["seconds"] = seconds;
+  stats["threads"] = wv::resolve_threads(o.threads);
+  out["stats"] = stats;
+  if (!o.record_pixels.empty()) {
+    const size_t N = r.recorded.size(), C = size_t(r.num_columns);
+    std::vector<int64_t> offsets(N + 1, 0);
+    for (size_t i = 0; i < N; ++i) offsets[i + 1] = offsets[i] + int64_t(r.recorded[i].track.xyz.size() / 3);
+    const size_t P = size_t(offsets[N]);
+    std::vector<double> points;
+    points.reserve(3 * P);
+    std::vector<double> cols(C * P);
+    std::vector<int32_t> px(N), py(N), sample(N), bounce(N), sheet(N);
+    std::vector<int8_t> kind(N), status(N);
+    for (size_t i = 0; i < N; ++i) {
+      const auto& seg = r.recorded[i];
+      points.insert(points.end(), seg.track.xyz.begin(), seg.track.xyz.end());
+      const size_t np = seg.track.xyz.size() / 3, base = size_t(offsets[i]);
+      for (size_t j = 0; j < np; ++j)
+        for (size_t c = 0; c < C; ++c) cols[c * P + base + j] = seg.track.cols[j * C + c];
+      px[i] = seg.px; py[i] = seg.py; sample[i] = seg.sample; bounce[i] = seg.bounce;
+      kind[i] = seg.kind; status[i] = seg.status; sheet[i] = seg.sheet;
+    }
+    nb::dict rays;
+    rays["points"] = to_numpy(std::move(points), {P, 3});
+    rays["offsets"] = to_numpy(std::move(offsets), {N + 1});
+    rays["columns"] = to_numpy(std::move(cols), {C, P});
+    nb::list names;
+    for (const char* c : {"affine_param", "coord_time", "r", "step_size", "hamiltonian_err"}) names.append(c);
+    const auto inv = st->invariant_names();
+    for (size_t k = 1; k < inv.size(); ++k) names.append(inv[k] + "_drift");
+    names.append("sheet");
+    rays["column_names"] = names;
+    rays["pixel_x"] = to_numpy(std::move(px), {N});
+    rays["pixel_y"] = to_numpy(std::move(py), {N});
+    rays["sample"] = to_numpy(std::move(sample), {N});
+    rays["bounce"] = to_numpy(std::move(bounce), {N});
+    rays["kind"] = to_numpy(std::move(kind), {N});
+    rays["status"] = to_numpy(std::move(status), {N});
+    rays["sheet"] = to_numpy(std::move(sheet), {N});
+    out["rays"] = rays;
+  }
+  return out;
+}
+
 nb::list metrics() {
   nb::list out;
   for (const auto& e : wv::metric_registry()) {
@@ -124,6 +277,8 @@ nb::list metrics() {
 NB_MODULE(_core, m) {
   m.doc() = "warpviz native core: null geodesics of Minkowski, Schwarzschild, Kerr and Ellis spacetimes";
   m.def("metrics", &metrics, "Registered metrics: list of {name, params, invariants}.");
+  m.def("render", &render, "scene"_a, "options"_a,
+        "Path-trace a native scene dict (docs/native-scene.md); see warpviz.render.");
   m.def("trace", &trace, "metric"_a, "params"_a, "origins"_a, "directions"_a, "sheets"_a, "tol"_a, "stepper"_a,
         "max_steps"_a, "escape_radius"_a, "max_drift"_a, "rk4_step"_a, "record"_a, "threads"_a,
         "Trace rays; see warpviz.trace for the documented interface.");

@@ -23,6 +23,7 @@ namespace wv {
 struct EllisWormhole : MetricBase<EllisWormhole> {
   static constexpr const char* kName = "ellis";
   static constexpr int kNumInvariants = 3;
+  static constexpr bool kUserIsChart = false;
   static constexpr const char* kInvariantNames[kNumInvariants] = {"H", "E", "L2"};
   double b0, b02;
 

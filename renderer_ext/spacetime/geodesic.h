@@ -28,6 +28,7 @@ struct TraceOptions {
   double max_drift = 1e-6;      // largest allowed relative drift of any conserved quantity
   double rk4_step = 1.0;        // base (far-field) step of the seed RK4 method
   bool record = false;          // keep the polyline and per-point data
+  bool backward = false;        // past-directed ray (camera rays): captured at the metric's capture radius
 };
 
 struct RayResult {
@@ -37,6 +38,17 @@ struct RayResult {
   int sheet = 1;
   long n_steps = 0;
   double drift[kMaxInvariants] = {0, 0, 0, 0, 0, 0};  // max relative drift along the ray; [0] is |H|
+  double y[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // final chart state (position and covariant momentum)
+  int prim = -1;                           // surface hit (status kHit): the scene primitive
+};
+
+// Surfaces tested along each accepted step (none for plain geodesics). A surface set provides
+//   static constexpr bool kActive = true;
+//   template <class S> bool find(const S& stepper, const double* y, const double* ynew, double h, int sheet,
+//                                double& theta, int& prim);
+// returning the fraction theta of the step at which the path first crosses a surface.
+struct NoSurfaces {
+  static constexpr bool kActive = false;
 };
 
 // One recorded polyline: xyz (3 per point, user frame) and `columns` values per point:
@@ -157,8 +169,9 @@ void straight_ray(const M& m, const double y[8], int sheet, const TraceOptions& 
 }
 
 // Integrates one ray from state y (chart coordinates, covariant momentum) on `sheet`.
-template <class M, class S>
-void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, RayResult& res, Track* track) {
+template <class M, class S, class Surf = NoSurfaces>
+void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, RayResult& res, Track* track,
+                   Surf* surfaces = nullptr) {
   if constexpr (M::kFlat) {
     straight_ray(m, y, sheet, o, res, track);
     return;
@@ -188,6 +201,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     // Ends a ray that did not escape: its direction is the coordinate direction of motion.
     auto finish = [&](int status, const double* ys) {
       res.status = status;
+      for (int i = 0; i < 8; ++i) res.y[i] = ys[i];
       res.sheet = m.chart_to_user(ys, sheet, res.pos);
       double f[8];
       m.rhs(ys, f);
@@ -213,7 +227,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     record(y, 0.0, 0.0);
     if (!state_finite(y)) return finish(kNaN, y);
 
-    const double r_h = m.horizon_radius();
+    const double r_h = o.backward ? m.capture_radius() : m.horizon_radius();
     // Seed RK4: the fixed base step is halved (powers of two) until it is at most kappa times the
     // distance to the centre, kappa = tol^(1/4) (global error ~ kappa^4).
     const double kappa = std::min(0.1, std::max(1e-4, std::pow(o.tol, 0.25)));
@@ -238,6 +252,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     double escape_pos[3];
     auto finish_escaped = [&](const double* ys) {
       res.status = kEscaped;
+      for (int i = 0; i < 8; ++i) res.y[i] = ys[i];
       asymptotic_direction(m, ys, res.dir);
       for (int i = 0; i < 3; ++i) res.pos[i] = escape_pos[i];
     };
@@ -285,6 +300,18 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
       }
       // Accepted step from y to ynew.
       ++res.n_steps;
+      if constexpr (Surf::kActive) {
+        // Surface hit: located on the dense output, the state there from a full-order step.
+        double theta;
+        int prim;
+        if (surfaces && surfaces->find(st, y, ynew, h, sheet, theta, prim)) {
+          st.attempt(m, y, theta * h, o.tol, ys);
+          monitor(ys, hamiltonian_error(m, ys));
+          record(ys, lam + theta * h, theta * h);
+          res.prim = prim;
+          return finish(kHit, ys);
+        }
+      }
       const double r_new = m.radius(ynew);
       // Horizon: locate the crossing r = r_h on the dense output so the path ends on the horizon.
       if (r_new < r_h) {

@@ -84,6 +84,11 @@ struct Kerr : MetricBase<Kerr> {
 
   double radius(const double* x) const { return bl_radius(x[1], x[2], x[3]); }
   double horizon_radius() const { return r_plus; }
+  // Halfway between the horizon and the prograde equatorial photon orbit (the innermost one).
+  double capture_radius() const {
+    const double r_ph = 2.0 * M * (1.0 + std::cos(2.0 / 3.0 * std::acos(-std::fabs(a) / M)));
+    return r_plus + 0.5 * (r_ph - r_plus);
+  }
   double length_scale() const { return M; }
 
   void conserved(const double y[8], double out[]) const {

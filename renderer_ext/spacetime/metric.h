@@ -112,6 +112,8 @@ template <class Derived>
 struct MetricBase {
   // Flat metrics trace straight lines analytically and never step.
   static constexpr bool kFlat = false;
+  // The integration chart's x, y, z are the user's Cartesian coordinates (false: Ellis).
+  static constexpr bool kUserIsChart = true;
 
   const Derived& self() const { return static_cast<const Derived&>(*this); }
 
@@ -127,6 +129,12 @@ struct MetricBase {
   // Outer horizon radius (0 if none); a ray whose radius drops below it is absorbed.
   double horizon_radius() const { return 0.0; }
   bool absorbed(const double* x) const { return self().radius(x) < self().horizon_radius(); }
+
+  // Rays traced backwards in time (camera rays) cannot cross the future horizon of the ingoing
+  // Kerr-Schild chart: they approach it asymptotically while their momentum diverges. They are
+  // captured instead when they move inward through a sphere between the horizon and the innermost
+  // photon orbit, inside which no inward-moving light ray turns back out.
+  double capture_radius() const { return self().horizon_radius(); }
 
   // Length scale of the strong-field region, used by the seed RK4 step halving and drift scales.
   double length_scale() const { return 1.0; }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/parallel.h"
+#include "integrators/path_tracer.h"
 #include "spacetime/geodesic.h"
 #include "spacetime/steppers/dop853.h"
 #include "spacetime/steppers/dopri5.h"
@@ -57,6 +58,8 @@ class Spacetime {
   // Initial state for a ray starting at pos (user frame) along unit direction dir of the local observer.
   virtual bool initial_state(const double pos[3], const double dir[3], int sheet, double y[8]) const = 0;
   virtual TraceResult trace(const TraceRequest& req) const = 0;
+  // Path-traces `scene` (whose metric must be this one) with the given stepper.
+  virtual RenderResult render(const Scene& scene, const RenderOptions& options, StepperKind stepper) const = 0;
 };
 
 template <class M>
@@ -99,6 +102,14 @@ class SpacetimeImpl final : public Spacetime {
       case StepperKind::kRk4: return run<Rk4<M>>(req);
       case StepperKind::kDop853: return run<Dop853<M>>(req);
       default: return run<Dopri5<M>>(req);
+    }
+  }
+
+  RenderResult render(const Scene& scene, const RenderOptions& options, StepperKind stepper) const override {
+    switch (stepper) {
+      case StepperKind::kRk4: return render_scene<M, Rk4<M>>(m_, scene, options);
+      case StepperKind::kDop853: return render_scene<M, Dop853<M>>(m_, scene, options);
+      default: return render_scene<M, Dopri5<M>>(m_, scene, options);
     }
   }
 

@@ -1,0 +1,449 @@
+// Unidirectional Monte Carlo path tracing along null geodesics, with light connection in curved space.
+//
+// Camera rays are traced backwards in time (past-directed momentum), so Kerr's frame dragging acts on
+// them as on the light that reaches the camera. Each segment of a path is a geodesic from one surface
+// to the next (a straight line in flat space, where nothing is integrated). At a diffuse vertex the
+// direct light is estimated by two strategies combined with the balance heuristic (multiple importance
+// sampling): a BSDF-sampled direction, and a direction towards a light sampled from the light's flat-space
+// proxy (scene/light.h). Both directions are traced as geodesics and both count whatever emission their
+// geodesic reaches first (a light, the sky, another emitter), so the weights sum to one for every
+// direction and the estimator is unbiased even though the proxy ignores bending. Russian roulette ends
+// long paths. Every random number comes from Rng(seed, pixel, sample).
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "core/linalg.h"
+#include "core/parallel.h"
+#include "core/rng.h"
+#include "film/film.h"
+#include "integrators/surface_hits.h"
+#include "scene/light.h"
+#include "scene/scene.h"
+#include "spacetime/frame.h"
+#include "spacetime/geodesic.h"
+#include "spacetime/steppers/common.h"
+
+namespace wv {
+
+struct RenderOptions {
+  int spp = 16;
+  uint64_t seed = 0;
+  int max_depth = 8;   // geodesic segments per path
+  int rr_depth = 3;    // Russian roulette from this segment on
+  bool light_sampling = true;
+  TraceOptions trace;  // tol, max_steps, escape_radius, max_drift (record is ignored)
+  double chord_tol = 1e-3;
+  int threads = 0;
+  std::vector<int32_t> record_pixels;  // (x, y) pairs whose paths are recorded
+  // Called from the calling thread every ~20 ms with (samples done, samples total); false cancels.
+  std::function<bool(int64_t, int64_t)> poll;
+};
+
+enum SegmentKind : int8_t { kCameraSegment = 0, kBounceSegment = 1, kLightSegment = 2 };
+
+struct RecordedSegment {
+  Track track;
+  int32_t px, py, sample, bounce;
+  int8_t kind, status;
+  int32_t sheet;
+};
+
+struct RenderResult {
+  Film film;
+  bool completed = true;
+  int64_t status_counts[6] = {0, 0, 0, 0, 0, 0};  // geodesic segments by RayStatus
+  int64_t total_steps = 0;
+  int64_t segments = 0;
+  int num_columns = 0;
+  std::vector<RecordedSegment> recorded;
+};
+
+// Where a geodesic segment ended.
+struct SegmentEnd {
+  int status = kNaN;
+  int prim = -1;
+  V3 pos;          // user frame
+  int sheet = 1;
+  V3 dir;          // escaped: direction on the sky; hit: local-frame direction of travel at the hit
+  double energy = 1.0;  // local energy at the end relative to the camera's (1 / redshift factor)
+  V3 normal_local;      // hit: unit normal in the local frame
+  LinearMap to_local;   // hit: user-frame displacement -> local frame
+  long steps = 0;
+  double drift = 0.0;
+};
+
+template <class M, class S>
+class PathTracer {
+ public:
+  PathTracer(const M& m, const Scene& sc, const RenderOptions& o) : m_(m), sc_(sc), o_(o) {
+    topt_ = o.trace;
+    topt_.record = false;
+    topt_.backward = true;
+    topt_.escape_radius = std::max(o.trace.escape_radius, 1.05 * sc.bound_radius + 1.0);
+  }
+
+  RenderResult render() {
+    RenderResult out;
+    const Camera& cam = sc_.camera;
+    const int W = cam.width, H = cam.height;
+    out.film.resize(W, H);
+    out.num_columns = track_columns<M>();
+    setup_camera();
+
+    // Recorded pixels: slot per pixel (-1 = not recorded).
+    std::vector<int> slot(size_t(W) * H, -1);
+    std::vector<std::vector<RecordedSegment>> rec;
+    for (size_t k = 0; k + 1 < o_.record_pixels.size(); k += 2) {
+      const int x = o_.record_pixels[k], y = o_.record_pixels[k + 1];
+      if (x < 0 || y < 0 || x >= W || y >= H) continue;
+      if (slot[size_t(y) * W + x] < 0) {
+        slot[size_t(y) * W + x] = int(rec.size());
+        rec.emplace_back();
+      }
+    }
+
+    // Progressive passes (1, 1, 2, 4, ... samples) so an interrupted render is a whole image.
+    std::vector<std::pair<int, int>> passes;
+    for (int s0 = 0, n = 1; s0 < o_.spp; s0 += n, n = std::min(2 * n, 64))
+      passes.emplace_back(s0, std::min(o_.spp, s0 + n));
+    const int64_t total = int64_t(W) * H * o_.spp;
+    std::atomic<int64_t> done{0};
+    std::atomic<int64_t> counts[6];
+    for (auto& c : counts) c = 0;
+    std::atomic<int64_t> steps{0}, segments{0};
+    const std::function<bool()> poll = o_.poll ? std::function<bool()>([&]() { return o_.poll(done.load(), total); })
+                                               : std::function<bool()>();
+    const size_t npix = size_t(W) * H;
+    for (const auto& pass : passes) {
+      auto body = [&](size_t pix) {
+        const int px = int(pix % W), py = int(pix / W);
+        Stats st;
+        for (int s = pass.first; s < pass.second; ++s) {
+          std::vector<RecordedSegment>* r = slot[pix] >= 0 ? &rec[slot[pix]] : nullptr;
+          sample_pixel(px, py, s, out.film, r, st);
+        }
+        done += pass.second - pass.first;
+        for (int k = 0; k < 6; ++k)
+          if (st.counts[k]) counts[k] += st.counts[k];
+        steps += st.steps;
+        segments += st.segments;
+      };
+      if (!parallel_for(npix, o_.threads, 64, body, poll)) {
+        out.completed = false;
+        break;
+      }
+    }
+    for (int k = 0; k < 6; ++k) out.status_counts[k] = counts[k].load();
+    out.total_steps = steps.load();
+    out.segments = segments.load();
+    for (auto& r : rec)
+      for (auto& seg : r) out.recorded.push_back(std::move(seg));
+    return out;
+  }
+
+ private:
+  struct Stats {
+    int64_t counts[6] = {0, 0, 0, 0, 0, 0};
+    int64_t steps = 0, segments = 0;
+  };
+
+  void setup_camera() {
+    const Camera& c = sc_.camera;
+    double x4[4];
+    if (!m_.user_to_chart(&c.position.x, c.sheet, x4)) throw std::invalid_argument("camera position lies outside the metric's chart");
+    if (m_.absorbed(x4)) throw std::invalid_argument("camera position lies inside the horizon");
+    ObserverFrame f;
+    if (!observer_frame(m_, x4, f)) throw std::invalid_argument("camera position has no static or ZAMO observer");
+    const LinearMap L = local_map(x4, f);
+    forward_ = normalize(L(c.look_at - c.position));
+    V3 up = L(c.up);
+    right_ = normalize(cross(forward_, up));
+    if (!(length(right_) > 0.5)) throw std::invalid_argument("camera up is parallel to the viewing direction");
+    up_ = cross(right_, forward_);
+    tan_half_ = std::tan(0.5 * c.fov * M_PI / 180.0);
+  }
+
+  // Map from a user-frame displacement at chart point x4 to the local observer frame: q_a = g(e_a, v),
+  // v the chart vector of the displacement.
+  LinearMap local_map(const double* x4, const ObserverFrame& f) const {
+    double jinv[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    if constexpr (!M::kUserIsChart) chart_jacobian_inverse(x4, jinv);
+    LinearMap L;
+    for (int a = 0; a < 3; ++a)
+      for (int j = 0; j < 3; ++j) {
+        double acc = 0.0;
+        for (int mu = 0; mu < 4; ++mu)
+          for (int nu = 1; nu < 4; ++nu) acc += f.e[a][mu] * f.g[mu][nu] * jinv[nu - 1][j];
+        L.m[a][j] = acc;
+      }
+    return L;
+  }
+
+  // Local-frame unit normal of a surface with user-frame normal N at chart point x4.
+  V3 local_normal(const double* x4, const ObserverFrame& f, V3 N) const {
+    double nc[3] = {N.x, N.y, N.z};  // covector in the chart: n_j = N_i dUser_i / dChart_j
+    if constexpr (!M::kUserIsChart) {
+      double J[3][3];
+      chart_jacobian(x4, J);
+      for (int j = 0; j < 3; ++j) nc[j] = N.x * J[0][j] + N.y * J[1][j] + N.z * J[2][j];
+    }
+    V3 n;
+    for (int a = 0; a < 3; ++a) n[a] = f.e[a][1] * nc[0] + f.e[a][2] * nc[1] + f.e[a][3] * nc[2];
+    return normalize(n);
+  }
+
+  // J_ij = d user_i / d chart_j by central differences (charts that are not the user frame).
+  void chart_jacobian(const double* x4, double J[3][3]) const {
+    const double r = std::sqrt(x4[1] * x4[1] + x4[2] * x4[2] + x4[3] * x4[3]);
+    const double eps = 1e-6 * std::max(1.0, r);
+    for (int j = 0; j < 3; ++j) {
+      double xp[4] = {x4[0], x4[1], x4[2], x4[3]}, xm[4] = {x4[0], x4[1], x4[2], x4[3]};
+      xp[1 + j] += eps;
+      xm[1 + j] -= eps;
+      double pp[3], pm[3];
+      m_.chart_to_user(xp, 1, pp);
+      m_.chart_to_user(xm, 1, pm);
+      for (int i = 0; i < 3; ++i) J[i][j] = (pp[i] - pm[i]) / (2.0 * eps);
+    }
+  }
+  void chart_jacobian_inverse(const double* x4, double jinv[3][3]) const {
+    double J[3][3];
+    chart_jacobian(x4, J);
+    const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+                       J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                       J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
+        jinv[i][j] = (J[i1][j1] * J[i2][j2] - J[i1][j2] * J[i2][j1]) / det;
+      }
+  }
+
+  // Traces one geodesic segment from user-frame point x on `sheet` along local direction d.
+  SegmentEnd segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st) const {
+    SegmentEnd e;
+    const double skip_dist = 1e-4 * (1.0 + length(x));
+    ++st.segments;
+    if constexpr (M::kFlat) {
+      SegmentHit hit;
+      e.sheet = sheet;
+      if (sc_.closest_hit(x, d, 0.0, 1e300, sheet, skip, skip_dist, hit)) {
+        e.status = kHit;
+        e.prim = hit.prim;
+        e.pos = x + d * hit.t;
+        e.dir = d;
+        e.normal_local = sc_.surface(hit.prim, e.pos).normal;
+      } else {
+        e.status = kEscaped;
+        e.dir = d;
+        e.pos = x + d * topt_.escape_radius;
+      }
+      if (track) flat_track(x, e.pos, sheet, *track);
+      ++st.counts[e.status];
+      return e;
+    } else {
+      double x4[4], y[8];
+      ObserverFrame f;
+      if (!m_.user_to_chart(&x.x, sheet, x4) || m_.absorbed(x4) || !observer_frame(m_, x4, f)) {
+        e.status = kHorizon;  // started on or inside the horizon (a surface grazing it)
+        ++st.counts[e.status];
+        return e;
+      }
+      double p[4], minus_d[3] = {-d.x, -d.y, -d.z};
+      frame_to_momentum(f, minus_d, p);  // future-directed momentum of the light arriving along d ...
+      for (int i = 0; i < 4; ++i) {
+        y[i] = x4[i];
+        y[4 + i] = -p[i];  // ... traced backwards
+      }
+      SceneSurfaces<M> surf(m_, sc_, o_.chord_tol, skip, skip_dist);
+      RayResult res;
+      integrate_ray<M, S, SceneSurfaces<M>>(m_, y, sheet, topt_, res, track, &surf);
+      e.status = res.status;
+      e.prim = res.prim;
+      e.pos = V3(res.pos);
+      e.sheet = res.sheet;
+      e.steps = res.n_steps;
+      for (int k = 0; k < M::kNumInvariants; ++k) e.drift = std::max(e.drift, res.drift[k]);
+      st.steps += res.n_steps;
+      ++st.counts[e.status];
+      if (e.status == kEscaped) {
+        e.dir = V3(res.dir);
+        e.energy = res.y[4];  // p_t of the backward ray = energy measured at rest at infinity
+      } else if (e.status == kHit) {
+        ObserverFrame fh;
+        if (!observer_frame(m_, res.y, fh)) {
+          e.status = kHorizon;
+          return e;
+        }
+        double n[3];
+        e.energy = -momentum_to_frame(fh, res.y + 4, n);
+        e.dir = V3(n);
+        e.normal_local = local_normal(res.y, fh, sc_.surface(e.prim, e.pos).normal);
+        e.to_local = local_map(res.y, fh);
+      }
+      return e;
+    }
+  }
+
+  void flat_track(V3 a, V3 b, int sheet, Track& t) const {
+    const double L = length(b - a);
+    for (int k = 0; k < 2; ++k) {
+      const V3 p = k == 0 ? a : b;
+      t.xyz.insert(t.xyz.end(), {p.x, p.y, p.z});
+      const double lam = k == 0 ? 0.0 : L;
+      t.cols.insert(t.cols.end(), {lam, -lam, length(p), lam, 0.0});
+      for (int j = 1; j < M::kNumInvariants; ++j) t.cols.push_back(0.0);
+      t.cols.push_back(double(sheet));
+    }
+  }
+
+  // Radiance emitted towards the path by what a segment reached.
+  V3 emission(const SegmentEnd& e) const {
+    if (e.status == kEscaped) return sc_.sky(e.sheet).radiance(e.dir);
+    if (e.status != kHit) return {0, 0, 0};
+    return sc_.emitted(e.prim, sc_.surface(e.prim, e.pos), e.normal_local, -e.dir);
+  }
+
+  // Mixture pdf of the light strategy for local direction w at user point x.
+  double lights_pdf(V3 x, int sheet, const LinearMap& L, V3 w) const {
+    double s = 0.0;
+    for (int l : sc_.lights)
+      if (sc_.prims[l].sheet == sheet) s += light_pdf(sc_, l, x, L, w);
+    return s / double(sc_.lights.size());
+  }
+
+  // The ray leaving a surface starts a hair off it, on the side it leaves towards.
+  static V3 offset(V3 pos, V3 n_user, V3 n_local, V3 w) {
+    const double eps = 1e-7 * (1.0 + length(pos));
+    return pos + n_user * (dot(w, n_local) >= 0.0 ? eps : -eps);
+  }
+
+  void sample_pixel(int px, int py, int s, Film& film, std::vector<RecordedSegment>* rec, Stats& st) const {
+    const Camera& cam = sc_.camera;
+    const size_t pix = size_t(py) * cam.width + px;
+    Rng rng(o_.seed, pix, uint64_t(s));
+    const double aspect = double(cam.width) / cam.height;
+    const double sx = (2.0 * (px + rng.uniform()) / cam.width - 1.0) * tan_half_ * aspect;
+    const double sy = (1.0 - 2.0 * (py + rng.uniform()) / cam.height) * tan_half_;
+    V3 d = normalize(forward_ + right_ * sx + up_ * sy);
+    V3 x = cam.position;
+    int sheet = cam.sheet, skip = -1;
+    V3 L{0, 0, 0}, beta{1, 1, 1};
+    double mis = 1.0;  // weight of emission found by the next segment (BSDF strategy)
+    bool error = false;
+    double max_drift = 0.0;
+    int64_t steps = 0;
+    auto trace = [&](V3 from, int sh, V3 dir, int skp, int bounce, int8_t kind) {
+      Track* tr = nullptr;
+      if (rec) {
+        rec->emplace_back();
+        tr = &rec->back().track;
+      }
+      SegmentEnd e = segment(from, sh, dir, skp, tr, st);
+      if (rec) {
+        RecordedSegment& r = rec->back();
+        r.px = px;
+        r.py = py;
+        r.sample = s;
+        r.bounce = bounce;
+        r.kind = kind;
+        r.status = int8_t(e.status);
+        r.sheet = sh;
+      }
+      steps += e.steps;
+      max_drift = std::max(max_drift, e.drift);
+      if (e.status >= kMaxSteps) error = true;
+      return e;
+    };
+
+    for (int bounce = 0; bounce < o_.max_depth; ++bounce) {
+      const SegmentEnd e = trace(x, sheet, d, skip, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
+      if (bounce == 0 && s == 0) {
+        film.status[pix] = float(e.status);
+        film.redshift[pix] = (e.status == kHit || e.status == kEscaped) && e.energy > 0.0 ? float(1.0 / e.energy) : 0.0f;
+        film.depth[pix] = e.status == kHit ? float(length(e.pos - cam.position)) : INFINITY;
+        if (e.status == kHit) {
+          const V3 n = sc_.surface(e.prim, e.pos).normal;
+          for (int c = 0; c < 3; ++c) film.normal[3 * pix + c] = float(n[c]);
+        }
+      }
+      const V3 Le = emission(e);
+      L += beta * Le * mis;
+      if (e.status != kHit) break;
+      const Material& mat = sc_.materials[sc_.prims[e.prim].material];
+      if (mat.kind == MaterialKind::kEmissive || bounce + 1 >= o_.max_depth) break;
+      const SurfacePoint sp = sc_.surface(e.prim, e.pos);
+      const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
+      const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
+      if (nee) {
+        // Light strategy: a direction from the flat-space proxy of one light, traced as a geodesic.
+        const int li = std::min(int(sc_.lights.size()) - 1, int(rng.uniform() * sc_.lights.size()));
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        V3 wl;
+        double pl_one;
+        const int lp = sc_.lights[li];
+        if (sc_.prims[lp].sheet == e.sheet && sample_light(sc_, lp, e.pos, e.to_local, u1, u2, wl, pl_one)) {
+          double pb;
+          const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
+          const double pl = lights_pdf(e.pos, e.sheet, e.to_local, wl);
+          if (max_component(f) > 0.0 && pl > 0.0) {
+            const SegmentEnd le =
+                trace(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, bounce + 1, kLightSegment);
+            L += beta * f * emission(le) / (pl + pb);
+          }
+        }
+      }
+      const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+      const BsdfSample bs = bsdf_sample(mat, albedo, n, wo, u1, u2, u3);
+      if (!bs.valid) break;
+      beta *= bs.weight;
+      mis = 1.0;
+      if (nee) {
+        const double pl = lights_pdf(e.pos, e.sheet, e.to_local, bs.wi);
+        mis = bs.pdf / (bs.pdf + pl);
+      }
+      if (bounce + 1 >= o_.rr_depth) {
+        // Survival probability = throughput (pbrt's rule): lossless paths are never cut.
+        const double q = std::min(1.0, max_component(beta));
+        if (q < 1.0) {
+          if (rng.uniform() >= q) break;
+          beta = beta / q;
+        }
+      }
+      x = offset(e.pos, sp.normal, n, bs.wi);
+      sheet = e.sheet;
+      d = bs.wi;
+      skip = e.prim;
+    }
+    if (!finite(L)) {
+      L = {0, 0, 0};
+      error = true;
+    }
+    for (int c = 0; c < 3; ++c) film.rgb_sum[3 * pix + c] += L[c];
+    film.samples[pix] += 1;
+    film.steps_sum[pix] += double(steps);
+    film.max_drift[pix] = std::max(film.max_drift[pix], float(max_drift));
+    if (error) film.errors[pix] += 1;
+  }
+
+  const M& m_;
+  const Scene& sc_;
+  const RenderOptions& o_;
+  TraceOptions topt_;
+  V3 forward_, right_, up_;
+  double tan_half_ = 1.0;
+};
+
+template <class M, class S>
+RenderResult render_scene(const M& m, const Scene& sc, const RenderOptions& o) {
+  PathTracer<M, S> pt(m, sc, o);
+  return pt.render();
+}
+
+}  // namespace wv

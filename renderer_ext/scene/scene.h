@@ -1,0 +1,99 @@
+// A renderable scene: primitives with materials and textures, the sky on each sheet, the camera and the
+// list of lights, with one BVH over everything. Built once (bindings/scene_dict.cpp) and then read-only,
+// so any number of threads share it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scene/bvh.h"
+#include "scene/environment.h"
+#include "scene/material.h"
+#include "scene/shapes.h"
+#include "scene/texture.h"
+
+namespace wv {
+
+struct Camera {
+  V3 position{0, 0, 0}, look_at{0, 0, -1}, up{0, 0, 1};
+  double fov = 40.0;  // vertical, degrees
+  int width = 64, height = 48;
+  int sheet = 1;
+};
+
+class Scene {
+ public:
+  std::vector<Sphere> spheres;
+  std::vector<Quad> quads;
+  std::vector<Disk> disks;
+  std::vector<Triangle> triangles;
+  std::vector<Prim> prims;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<int> lights;  // prims that emit and can be sampled (spheres, quads, disks)
+  Environment environment, environment_other;
+  Camera camera;
+  Bvh bvh;
+  double bound_radius = 0.0;  // every primitive lies within this distance of the origin
+
+  // Call after filling the arrays: builds the BVH, the light list and the bounds.
+  void finalize();
+
+  bool intersect_prim(int p, V3 o, V3 d, double tmin, double tmax, double& t) const {
+    const Prim& pr = prims[p];
+    switch (pr.kind) {
+      case PrimKind::kSphere: return intersect(spheres[pr.index], o, d, tmin, tmax, t);
+      case PrimKind::kQuad: return intersect(quads[pr.index], o, d, tmin, tmax, t);
+      case PrimKind::kDisk: return intersect(disks[pr.index], o, d, tmin, tmax, t);
+      default: return intersect(triangles[pr.index], o, d, tmin, tmax, t);
+    }
+  }
+  double implicit_at(int p, V3 x) const {
+    const Prim& pr = prims[p];
+    switch (pr.kind) {
+      case PrimKind::kSphere: return implicit(spheres[pr.index], x);
+      case PrimKind::kQuad: return implicit(quads[pr.index], x);
+      case PrimKind::kDisk: return implicit(disks[pr.index], x);
+      default: return implicit(triangles[pr.index], x);
+    }
+  }
+  SurfacePoint surface(int p, V3 x) const {
+    const Prim& pr = prims[p];
+    switch (pr.kind) {
+      case PrimKind::kSphere: return surface_at(spheres[pr.index], x);
+      case PrimKind::kQuad: return surface_at(quads[pr.index], x);
+      case PrimKind::kDisk: return surface_at(disks[pr.index], x);
+      default: return surface_at(triangles[pr.index], x);
+    }
+  }
+
+  // Closest hit of the segment o + t d, t in (tmin, tmax), among primitives on `sheet`; `skip` is a
+  // primitive ignored for t * |d| < skip_dist (the surface a ray just left).
+  bool closest_hit(V3 o, V3 d, double tmin, double tmax, int sheet, int skip, double skip_t, SegmentHit& hit) const {
+    return bvh.closest(
+        o, d, tmin, tmax,
+        [&](int p, V3 oo, V3 dd, double t0, double t1, double& t) {
+          if (prims[p].sheet != sheet) return false;
+          if (!intersect_prim(p, oo, dd, t0, t1, t)) return false;
+          if (p == skip && t < skip_t) return false;
+          return true;
+        },
+        hit);
+  }
+
+  V3 albedo(const Material& m, const SurfacePoint& sp) const {
+    return m.texture >= 0 ? textures[m.texture].eval(sp.u, sp.v) : V3{0.8, 0.8, 0.8};
+  }
+  // Radiance emitted by primitive p at surface point sp towards unit direction w (local frame; nl is the
+  // local-frame normal).
+  V3 emitted(int p, const SurfacePoint& sp, V3 nl, V3 w) const {
+    const Material& m = materials[prims[p].material];
+    if (m.kind != MaterialKind::kEmissive) return {0, 0, 0};
+    if (!m.two_sided && dot(nl, w) <= 0.0) return {0, 0, 0};
+    const V3 c = m.texture >= 0 ? textures[m.texture].eval(sp.u, sp.v) : V3{1, 1, 1};
+    return c * m.strength;
+  }
+  const Environment& sky(int sheet) const { return sheet >= 0 ? environment : environment_other; }
+};
+
+}  // namespace wv

@@ -1,0 +1,256 @@
+"""Renderer physics: furnace tests, flat-vs-curved equality, determinism, light connection against
+brute force, shadow sizes of Schwarzschild and Kerr black holes, AOVs, recorded paths, bad input."""
+
+import math
+
+import numpy as np
+import pytest
+
+import warpviz as wv
+from native_scenes import furnace, metric, room, sky_only
+
+
+@pytest.mark.parametrize("material", ["diffuse", "mirror", "glass"])
+def test_white_furnace_flat(material):
+    """A lossless sphere under a uniform sky is invisible: every pixel shows the sky radiance."""
+    img = wv.render(furnace(material=material, sky=0.7), spp=8, max_depth=64)
+    assert img.completed
+    np.testing.assert_allclose(img.rgb, 0.7, rtol=1e-6)
+    assert (img.aovs["status"] == wv.RayStatus.HIT).sum() > 20  # the sphere is in view
+
+
+def test_furnace_albedo_scales_single_bounce():
+    """A convex diffuse sphere of albedo rho never sees itself: its pixels are exactly rho * L."""
+    img = wv.render(furnace(albedo=0.4, sky=1.0, size=(24, 18)), spp=1, max_depth=8)
+    hit = img.aovs["status"] == wv.RayStatus.HIT
+    # a pixel whose single sample hit the sphere is rho L; a miss is L
+    np.testing.assert_allclose(img.rgb[hit], 0.4, rtol=1e-6)
+    np.testing.assert_allclose(img.rgb[~hit], 1.0, rtol=1e-6)
+
+
+def test_schwarzschild_furnace_shows_sky_except_shadow():
+    img = wv.render(sky_only(metric("schwarzschild", 1.0), camera=(0, -40, 0), fov=40, size=(24, 24), sky=0.8),
+                    spp=2)
+    status = img.aovs["status"]
+    esc = status == wv.RayStatus.ESCAPED
+    hor = status == wv.RayStatus.HORIZON
+    assert esc.sum() + hor.sum() == status.size and hor.sum() > 4
+    full = img.aovs["samples"] == 2
+    inside = (img.rgb[..., 0] == 0.0)
+    # every pixel is sky radiance, black, or a blend at the shadow's edge; never anything else
+    assert np.all((np.abs(img.rgb - 0.8) < 1e-6).all(axis=-1) | inside | ~full | (img.rgb[..., 0] == 0.4))
+
+
+def test_schwarzschild_shadow_size_matches_exact_angle(exact):
+    """Shadow of a static camera at r = 10: the dark area of the image, measured with sub-pixel
+    coverage, is a disc of radius tan(theta) in the pinhole's image plane."""
+    case = next(c for c in exact["schwarzschild_shadow"]["cases"] if c["r"] == 10.0)
+    half = 0.7  # tan of half the field of view
+    n = 64
+    scene = sky_only(metric("schwarzschild", 1.0), camera=(0, -10, 0), fov=2 * math.degrees(math.atan(half)),
+                     size=(n, n))
+    img = wv.render(scene, spp=16)
+    dark = 1.0 - img.rgb[..., 0].astype(np.float64)
+    pixel_area = (2 * half / n) ** 2
+    theta = math.atan(math.sqrt(dark.sum() * pixel_area / math.pi))
+    assert math.degrees(theta) == pytest.approx(case["theta_deg"], rel=3e-3)
+
+
+@pytest.mark.parametrize("spin", [0.9, -0.9])
+def test_kerr_shadow_is_shifted_by_frame_dragging(exact, spin):
+    """Equatorial camera far away (r = 1000 M): the shadow spans impact parameters from the prograde to
+    the retrograde photon orbit, b = -+a + 6 cos(arccos(-+a) / 3), and is shifted towards the side
+    where light moves against the rotation (+x for spin along +z, seen from -y)."""
+    a = abs(spin)
+    b_pro = -a + 6 * math.cos(math.acos(-a) / 3)
+    b_retro = a + 6 * math.cos(math.acos(a) / 3)
+    D = 1000.0
+    width_px, height_px = 160, 3
+    half_w = 8.0 / D  # tan of half the horizontal field of view
+    pix = 2 * half_w / width_px
+    fov = 2 * math.degrees(math.atan(pix * height_px / 2))
+    scene = sky_only(metric("kerr", 1.0, spin), camera=(0, -D, 0), fov=fov, size=(width_px, height_px))
+    img = wv.render(scene, spp=32, tol=1e-9)
+    cover = 1.0 - img.rgb[1, :, 0].astype(np.float64)  # central row
+    x = (np.arange(width_px) + 0.5 - width_px / 2) * pix  # tan of the angle right of centre
+    width = cover.sum() * pix
+    centre = (cover * x).sum() / cover.sum()
+    assert width * D == pytest.approx(b_pro + b_retro, rel=1e-2)
+    assert centre * D == pytest.approx(np.sign(spin) * (b_retro - b_pro) / 2, rel=5e-2)
+
+
+def test_flat_equals_tiny_mass_and_threads_do_not_change_images():
+    scene = room(metric(), size=(20, 15), spheres=True)
+    flat1 = wv.render(scene, spp=4, threads=1)
+    flat2 = wv.render(scene, spp=4, threads=2)
+    assert np.array_equal(flat1.rgb, flat2.rgb)
+    assert flat1.stats["steps"] == 0  # straight lines, no integration
+    tiny_scene = dict(scene, metric=metric("schwarzschild", 1e-12))
+    tiny1 = wv.render(tiny_scene, spp=4, threads=1)
+    tiny2 = wv.render(tiny_scene, spp=4, threads=2)
+    assert np.array_equal(tiny1.rgb, tiny2.rgb)
+    assert np.array_equal(tiny1.aovs["n_steps"], tiny2.aovs["n_steps"])
+    assert tiny1.stats["steps"] > 0
+    # same random numbers, same paths up to 1e-12 M differences: equal to noise level
+    diff = np.abs(tiny1.rgb - flat1.rgb)
+    assert np.median(diff) < 1e-5
+    assert abs(tiny1.rgb.mean() - flat1.rgb.mean()) < 0.02 * flat1.rgb.mean()
+
+
+def _image_means(scene, seeds, **kw):
+    return np.array([wv.render(scene, seed=s, **kw).rgb.mean() for s in seeds])
+
+
+def test_light_connection_and_brute_force_agree_in_curved_room():
+    """Both estimators are unbiased: their image means agree within the sampling error."""
+    scene = room(metric("schwarzschild", 1.0), size=(16, 12), light=4.0)
+    seeds = range(6)
+    nee = _image_means(scene, seeds, spp=8, light_sampling=True, max_depth=4)
+    brute = _image_means(scene, seeds, spp=8, light_sampling=False, max_depth=4)
+    err = math.sqrt(nee.var(ddof=1) / len(nee) + brute.var(ddof=1) / len(brute))
+    assert abs(nee.mean() - brute.mean()) < 4 * err + 1e-3 * nee.mean()
+    assert nee.var() < brute.var()  # and the light connection is the better one
+
+
+def test_light_connection_and_brute_force_agree_flat():
+    scene = room(metric(), size=(16, 12), light=2.0)
+    nee = _image_means(scene, range(6), spp=8, light_sampling=True, max_depth=4)
+    brute = _image_means(scene, range(6), spp=8, light_sampling=False, max_depth=4)
+    err = math.sqrt(nee.var(ddof=1) / 6 + brute.var(ddof=1) / 6)
+    assert abs(nee.mean() - brute.mean()) < 4 * err
+    assert nee.var() < 0.5 * brute.var()
+
+
+def test_deterministic_for_a_seed_and_different_across_seeds():
+    scene = room(metric("schwarzschild", 1.0), size=(8, 6))
+    a = wv.render(scene, spp=2, seed=3)
+    b = wv.render(scene, spp=2, seed=3)
+    c = wv.render(scene, spp=2, seed=4)
+    assert np.array_equal(a.rgb, b.rgb) and not np.array_equal(a.rgb, c.rgb)
+
+
+def test_aovs_and_stats():
+    img = wv.render(room(metric("schwarzschild", 1.0), size=(12, 9)), spp=2)
+    h, w = img.shape
+    assert set(img.aovs) == {"redshift", "n_steps", "max_drift", "status", "depth", "normal", "errors", "samples"}
+    for name, arr in img.aovs.items():
+        assert arr.dtype == np.float32 and arr.shape[:2] == (h, w), name
+        assert not np.isnan(arr).any(), name
+    assert np.all(img.aovs["samples"] == 2)
+    hit = img.aovs["status"] == wv.RayStatus.HIT
+    assert hit.any()
+    # static emitter at r_e seen by a static camera at r_c: g = sqrt(1 - 2/r_e) / sqrt(1 - 2/r_c)
+    assert np.all(img.aovs["redshift"][hit] > 0.8) and np.all(img.aovs["redshift"][hit] < 1.1)
+    n = np.linalg.norm(img.aovs["normal"][hit], axis=-1)
+    np.testing.assert_allclose(n, 1.0, rtol=1e-5)
+    assert np.all(img.aovs["n_steps"][hit] > 0)
+    assert img.stats["segments_by_status"]["hit"] > 0 and img.stats["seconds"] > 0
+
+
+def test_redshift_of_static_emitter_matches_gravitational_formula():
+    """A camera at r = 30 looking at a wall at r = 6 sees g = sqrt(1 - 2/6) / sqrt(1 - 2/30)."""
+    scene = {
+        "metric": metric("schwarzschild", 1.0),
+        "camera": {"position": [0, -30, 0], "look_at": [0, 0, 0], "fov": 0.01, "width": 3, "height": 3},
+        "textures": [{"type": "constant", "color": [1, 1, 1]}],
+        "materials": [{"type": "emissive", "texture": 0, "strength": 1.0}],
+        "shapes": [{"type": "quad", "corner": [-1, -6, -1], "edge_u": [0, 0, 2], "edge_v": [2, 0, 0], "material": 0}],
+        "environment": {"color": [0, 0, 0]},
+    }
+    img = wv.render(scene, spp=1)
+    g = img.aovs["redshift"][1, 1]
+    assert g == pytest.approx(math.sqrt(1 - 2 / 6) / math.sqrt(1 - 2 / 30), rel=1e-6)
+
+
+def test_recorded_paths():
+    img = wv.render(room(metric("schwarzschild", 1.0), size=(8, 6)), spp=2, record_pixels=[[4, 3], [0, 0]])
+    rays = img.rays
+    assert rays is not None and rays.recorded
+    px, py = rays.ray_data["pixel_x"], rays.ray_data["pixel_y"]
+    assert set(zip(px.tolist(), py.tolist())) == {(4, 3), (0, 0)}
+    assert set(rays.ray_data["sample"].tolist()) == {0, 1}
+    cam = rays.ray_data["kind"] == 0
+    assert cam.sum() == 4  # one camera segment per sample and pixel
+    for i in np.flatnonzero(cam):
+        pts = rays.ray_points(i)
+        np.testing.assert_allclose(pts[0], [0, -10.8, 2.4], atol=1e-12)
+    assert np.all(np.isfinite(rays.points))
+    assert rays.max_drift().max() < 1e-4
+
+
+def test_ellis_scene_on_both_sheets():
+    """A camera on one sheet sees the other sheet's sky through the throat."""
+    scene = sky_only(metric("ellis", 1.0), camera=(0, -8, 0), fov=40, size=(16, 16), sky=0.2)
+    scene["environment_other"] = {"color": [0.0, 0.9, 0.0]}
+    img = wv.render(scene, spp=1)
+    centre = img.rgb[8, 8]
+    corner = img.rgb[0, 0]
+    np.testing.assert_allclose(centre, [0, 0.9, 0], atol=1e-6)  # through the throat
+    np.testing.assert_allclose(corner, [0.2, 0.2, 0.2], atol=1e-6)
+
+
+def test_interrupt_from_progress_keeps_partial_image():
+    calls = []
+
+    def progress(done, total):
+        calls.append((done, total))
+        raise KeyboardInterrupt
+
+    img = wv.render(room(metric("schwarzschild", 1.0), size=(24, 18)), spp=64, progress=progress, threads=1)
+    assert not img.completed
+    assert calls and calls[0][1] == 24 * 18 * 64
+    assert img.aovs["samples"].max() < 64
+    assert np.all(np.isfinite(img.rgb))
+
+
+def test_progress_reports_completion():
+    seen = []
+    img = wv.render(furnace(), spp=2, progress=lambda d, t: seen.append((d, t)))
+    assert img.completed and seen[-1] == (16 * 12 * 2, 16 * 12 * 2)
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (lambda s: s["camera"].update(position=[0, 0, 1.0]), "camera.position lies inside the horizon"),
+        (lambda s: s["shapes"][0].update(radius=-1.0), r"shapes\[0\].radius must be > 0"),
+        (lambda s: s["shapes"][0].update(material=5), r"shapes\[0\].material index 5 out of range"),
+        (lambda s: s["materials"][0].update(type="velvet"), "unknown material type 'velvet'"),
+        (lambda s: s["camera"].update(look_at=[0, -6, 0]), "must differ from camera.position"),
+        (lambda s: s["camera"].update(position=[0, float("nan"), 0]), "camera.position must be a list of 3 finite"),
+        (lambda s: s["metric"].update(params=[1.0, 1.5]), "spin"),
+    ],
+)
+def test_bad_scenes_raise_clear_errors(change, message):
+    scene = furnace(metric_spec=metric("kerr", 1.0, 0.5))
+    change(scene)
+    with pytest.raises(ValueError, match=message):
+        wv.render(scene, spp=1)
+
+
+def test_bad_options():
+    with pytest.raises(ValueError, match="spp must be a positive integer"):
+        wv.render(furnace(), spp=0)
+    with pytest.raises(ValueError, match="record_pixels row 0"):
+        wv.render(furnace(), spp=1, record_pixels=[[100, 0]])
+    with pytest.raises(ValueError, match="unknown stepper"):
+        wv.render(furnace(), spp=1, stepper="euler")
+
+
+def test_image_save_exr_and_png(tmp_path):
+    import OpenEXR
+    from PIL import Image as PILImage
+
+    img = wv.render(furnace(sky=0.25), spp=1)
+    exr = img.save(tmp_path / "f.exr")
+    png = img.save(tmp_path / "f.png")
+    with OpenEXR.File(str(exr), separate_channels=True) as f:
+        ch = f.channels()
+        assert {"R", "G", "B", "redshift", "normal.X", "samples"} <= set(ch)
+        np.testing.assert_array_equal(ch["R"].pixels, img.rgb[..., 0])
+        assert '"metric": "minkowski"' in f.header()["warpviz"]
+    pic = np.asarray(PILImage.open(png))
+    assert pic.shape == (12, 16, 3) and pic.dtype == np.uint8
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.exr", "f.png"]
+    with pytest.raises(ValueError, match="use a .exr or .png"):
+        img.save(tmp_path / "f.jpg")

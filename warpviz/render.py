@@ -1,0 +1,266 @@
+"""Rendering: path-trace a scene whose light rays are null geodesics.
+
+:func:`render` takes a scene file, a :class:`warpviz.scene.Scene` or a native scene dict
+(``docs/native-scene.md``) and returns an :class:`warpviz.image.Image`.
+
+Examples
+--------
+A diffuse white sphere under a uniform white sky, in flat space, reflects exactly the sky's radiance
+(the "white furnace"):
+
+>>> import numpy as np, warpviz as wv
+>>> scene = {
+...     "metric": {"name": "minkowski", "params": []},
+...     "camera": {"position": [0, -5, 0], "look_at": [0, 0, 0], "fov": 30, "width": 8, "height": 6},
+...     "textures": [{"type": "constant", "color": [1, 1, 1]}],
+...     "materials": [{"type": "diffuse", "texture": 0}],
+...     "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": 0}],
+...     "environment": {"color": [0.5, 0.5, 0.5]},
+... }
+>>> img = wv.render(scene, spp=4, max_depth=64)
+>>> img.shape, bool(np.allclose(img.rgb, 0.5))
+((6, 8), True)
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from warpviz._native import core
+from warpviz.image import Image
+from warpviz.metrics import metric_from_dict
+from warpviz.rays import RayBundle
+
+__all__ = ["render", "DEFAULT_OPTIONS"]
+
+#: Renderer options and their defaults (see docs/native-scene.md).
+DEFAULT_OPTIONS = {
+    "spp": 16,
+    "seed": 0,
+    "max_depth": 8,
+    "rr_depth": 3,
+    "light_sampling": True,
+    "stepper": "dopri5",
+    "tol": 1e-8,
+    "max_steps": 20000,
+    "escape_radius": 1e3,
+    "max_drift": None,  # max(1e-6, 1e3 * tol)
+    "chord_tolerance": 1e-3,
+}
+
+
+def _positive_int(name: str, value, *, allow_zero: bool = False) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < (0 if allow_zero else 1):
+        raise ValueError(f"{name} must be a {'non-negative' if allow_zero else 'positive'} integer, got {value!r}")
+    return int(value)
+
+
+def render(
+    scene,
+    *,
+    spp: int | None = None,
+    width: int | None = None,
+    height: int | None = None,
+    seed: int | None = None,
+    threads: int = 0,
+    flat: bool = False,
+    paper: bool = False,
+    light_sampling: bool | None = None,
+    max_depth: int | None = None,
+    stepper: str | None = None,
+    tol: float | None = None,
+    progress: Callable[[int, int], object] | None = None,
+    record_pixels=None,
+) -> Image:
+    """Path-trace a scene.
+
+    Parameters
+    ----------
+    scene : str, os.PathLike, warpviz.scene.Scene or dict
+        A TOML scene file (or the bare name of a shipped scene, e.g. ``"fig07"``), a loaded scene, or a
+        native scene dict.
+    spp : int, optional, keyword-only
+        Samples per pixel (default: the scene's, else 16).
+    width, height : int, optional, keyword-only
+        Image size in pixels (default: the scene's).
+    seed : int, optional, keyword-only
+        Random seed; a pixel's samples depend only on (seed, pixel, sample), so the image is the same
+        for any thread count.
+    threads : int, keyword-only
+        Worker threads; 0 uses every core.
+    flat : bool, keyword-only
+        Render the same scene in flat space (Minkowski) for comparison.
+    paper : bool, keyword-only
+        Use the scene's paper-size settings (``[render.paper]``).
+    light_sampling : bool, optional, keyword-only
+        False renders by brute force (no light connection), for comparison.
+    max_depth : int, optional, keyword-only
+        Geodesic segments per path.
+    stepper : {"rk4", "dopri5", "dop853"}, optional, keyword-only
+        Integrator for curved rays.
+    tol : float, optional, keyword-only
+        Integration tolerance.
+    progress : callable, optional, keyword-only
+        Called about every 20 ms as ``progress(samples_done, samples_total)`` from the calling thread.
+        Raising ``KeyboardInterrupt`` in it stops the render like Ctrl-C.
+    record_pixels : array_like of int, optional, keyword-only
+        (K, 2) pixel coordinates (x, y) whose sampled paths are recorded into ``Image.rays``.
+
+    Returns
+    -------
+    Image
+        ``rgb`` (H, W, 3) float32 linear radiance, ``aovs``, ``stats``, ``rays``. After Ctrl-C the
+        partial image is returned with ``completed=False``.
+
+    Raises
+    ------
+    ValueError
+        Invalid scene or option (the message names the key).
+    """
+    native, options, source = _resolve(scene, flat=flat, width=width, height=height, paper=paper)
+    overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
+                 "stepper": stepper, "tol": tol}  # fmt: skip
+    for key, value in overrides.items():
+        if value is not None:
+            options[key] = value
+    for key in ("spp", "max_depth"):
+        options[key] = _positive_int(key, options[key])
+    options["seed"] = _positive_int("seed", options["seed"], allow_zero=True)
+    options["rr_depth"] = _positive_int("rr_depth", options["rr_depth"])
+    if options["max_drift"] is None:
+        options["max_drift"] = max(1e-6, 1e3 * float(options["tol"]))
+    options["threads"] = _positive_int("threads", threads, allow_zero=True)
+    if progress is not None and not callable(progress):
+        raise ValueError("progress must be a callable(done, total)")
+    options["progress"] = progress
+    pixels = None
+    if record_pixels is not None:
+        pixels = np.ascontiguousarray(np.asarray(record_pixels, dtype=np.int64).reshape(-1, 2))
+        w, h = native["camera"]["width"], native["camera"]["height"]
+        bad = (pixels[:, 0] < 0) | (pixels[:, 0] >= w) | (pixels[:, 1] < 0) | (pixels[:, 1] >= h)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise ValueError(f"record_pixels row {i}: pixel {tuple(pixels[i])} lies outside the {w}x{h} image")
+        pixels = pixels.astype(np.int32)
+    options["record_pixels"] = pixels
+
+    metric = _metric(native["metric"])  # validates the parameters with the metric's own messages
+    raw = core.render(native, options)
+    metadata = {
+        "metric": native["metric"]["name"],
+        "metric_params": list(native["metric"].get("params", [])),
+        "width": native["camera"]["width"],
+        "height": native["camera"]["height"],
+        "spp": options["spp"],
+        "seed": options["seed"],
+        "stepper": options["stepper"],
+        "tol": options["tol"],
+        "max_depth": options["max_depth"],
+        "light_sampling": bool(options["light_sampling"]),
+        "scene": source,
+        "completed": bool(raw["completed"]),
+    }
+    rays = _bundle(raw["rays"], metric, options) if "rays" in raw else None
+    return Image(
+        rgb=raw["rgb"],
+        aovs=dict(raw["aovs"]),
+        completed=bool(raw["completed"]),
+        stats=_plain(raw["stats"]),
+        metadata=metadata,
+        rays=rays,
+        native_scene=native,
+    )
+
+
+def _metric(spec: dict):
+    """The Metric of a native ``{"name", "params": [...]}`` entry."""
+    from warpviz.metrics import _CLASSES
+
+    cls = _CLASSES[spec["name"]]
+    return metric_from_dict({"name": spec["name"], **dict(zip(cls._param_names, spec.get("params", [])))})
+
+
+def _plain(d):
+    return {k: _plain(v) if isinstance(v, dict) else v for k, v in dict(d).items()}
+
+
+def _resolve(scene, *, flat: bool, width, height, paper: bool) -> tuple[dict, dict, str | None]:
+    """The native scene dict, the renderer options and a description of where the scene came from."""
+    options = dict(DEFAULT_OPTIONS)
+    if isinstance(scene, dict):
+        native = copy.copy(scene)
+        native["camera"] = dict(scene["camera"])
+        if width is not None:
+            native["camera"]["width"] = _positive_int("width", width)
+        if height is not None:
+            native["camera"]["height"] = _positive_int("height", height)
+        if flat:
+            native["metric"] = {"name": "minkowski", "params": []}
+        return native, options, None
+    from warpviz.scene import Scene, load_scene
+
+    if isinstance(scene, (str, os.PathLike)):
+        scene = load_scene(scene)
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a path, a warpviz.scene.Scene or a native scene dict, not {type(scene).__name__}")
+    native = scene.native(flat=flat, width=width, height=height, paper=paper)
+    options.update(scene.render_settings(paper=paper))
+    return native, options, str(scene.path) if scene.path is not None else None
+
+
+def _bundle(raw: dict, metric, options: dict) -> RayBundle:
+    """The renderer's recorded geodesic segments as a RayBundle (one 'ray' per segment)."""
+    offsets = np.asarray(raw["offsets"])
+    points = np.asarray(raw["points"])
+    cols = np.asarray(raw["columns"])
+    names = list(raw["column_names"])
+    point_data = {name: cols[k] for k, name in enumerate(names) if name != "sheet"}
+    point_data["sheet"] = cols[names.index("sheet")].astype(np.int8)
+    errors = [point_data["hamiltonian_err"]] + [point_data[n] for n in names if n.endswith("_drift")]
+    point_data["log10_error"] = np.log10(np.maximum(np.max(np.stack(errors), axis=0), 1e-300)) if len(points) else np.zeros(0)
+    n = len(offsets) - 1
+    status = np.asarray(raw["status"]).astype(np.int8)
+    last = np.maximum(offsets[1:] - 1, 0)
+    final_positions = points[last] if len(points) else np.zeros((n, 3))
+    drift = {"H": np.zeros(n)}
+    for name in names:
+        if name.endswith("_drift"):
+            vals = point_data[name]
+            drift[name[: -len("_drift")]] = np.array(
+                [vals[offsets[i]:offsets[i + 1]].max(initial=0.0) for i in range(n)]
+            )
+    drift["H"] = np.array([point_data["hamiltonian_err"][offsets[i]:offsets[i + 1]].max(initial=0.0) for i in range(n)])
+    seg = np.diff(points, axis=0) if len(points) > 1 else np.zeros((0, 3))
+    final_dirs = np.zeros((n, 3))
+    for i in range(n):
+        if offsets[i + 1] - offsets[i] >= 2:
+            v = seg[offsets[i + 1] - 2]
+            norm = np.linalg.norm(v)
+            final_dirs[i] = v / norm if norm > 0 else 0.0
+    n_steps = np.maximum(np.diff(offsets) - 1, 0).astype(np.int64)
+    return RayBundle(
+        metric=metric,
+        stepper=options["stepper"],
+        tol=float(options["tol"]),
+        status=status,
+        final_positions=final_positions,
+        final_directions=final_dirs,
+        final_sheets=point_data["sheet"][last].astype(np.int32) if len(points) else np.ones(n, dtype=np.int32),
+        n_steps=n_steps,
+        invariant_drift=drift,
+        points=points,
+        offsets=offsets,
+        point_data=point_data,
+        ray_data={
+            "pixel_x": np.asarray(raw["pixel_x"]),
+            "pixel_y": np.asarray(raw["pixel_y"]),
+            "sample": np.asarray(raw["sample"]),
+            "bounce": np.asarray(raw["bounce"]),
+            "kind": np.asarray(raw["kind"]),
+        },
+    )
