@@ -254,3 +254,28 @@ def test_image_save_exr_and_png(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["f.exr", "f.png"]
     with pytest.raises(ValueError, match="use a .exr or .png"):
         img.save(tmp_path / "f.jpg")
+
+
+def test_keplerian_disk_beaming_brightens_the_approaching_side():
+    """A disk orbiting prograde about +z, seen from -y: its left (x < 0) half comes towards the camera
+    and is blueshifted (g > 1), the right half recedes (g < 1); with beaming each pixel's radiance is
+    strength * g^4, g being the redshift AOV of the same (single) sample."""
+    scene = {
+        "metric": metric("schwarzschild", 1.0),
+        "camera": {"position": [0, -60, 6], "look_at": [0, 0, 0], "fov": 30, "width": 48, "height": 24},
+        "textures": [{"type": "constant", "color": [1, 1, 1]}],
+        "materials": [{"type": "emissive", "texture": 0, "strength": 1.0, "two_sided": True,
+                       "keplerian": True, "beaming": True}],
+        "shapes": [{"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1], "inner_radius": 6.0,
+                    "outer_radius": 20.0, "material": 0}],
+        "environment": {"color": [0, 0, 0]},
+    }
+    img = wv.render(scene, spp=1)
+    hit = img.aovs["status"] == wv.RayStatus.HIT
+    g = img.aovs["redshift"]
+    np.testing.assert_allclose(img.rgb[..., 0][hit], g[hit] ** 4, rtol=1e-5)
+    left, right = hit.copy(), hit.copy()
+    left[:, 24:] = False
+    right[:, :24] = False
+    assert g[left].max() > 1.2 and g[right].min() < 0.75
+    assert img.rgb[..., 0][left].mean() > 3 * img.rgb[..., 0][right].mean()

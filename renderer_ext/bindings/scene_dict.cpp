@@ -200,6 +200,8 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
       m.strength = number(t, "strength", w, 1.0);
       if (!(m.strength >= 0)) fail(w + ".strength", "must be >= 0");
       m.two_sided = t.contains("two_sided") && nb::cast<bool>(t["two_sided"]);
+      m.beaming = t.contains("beaming") && nb::cast<bool>(t["beaming"]);
+      m.keplerian = t.contains("keplerian") && nb::cast<bool>(t["keplerian"]);
     } else {
       fail(w + ".type", "unknown material type '" + ty + "' (known: diffuse, mirror, glass, emissive)");
     }

@@ -76,6 +76,8 @@ struct SegmentEnd {
   LinearMap to_local;   // hit: user-frame displacement -> local frame
   long steps = 0;
   double drift = 0.0;
+  double y[8];          // hit: chart state (backward momentum)
+  ObserverFrame frame;  // hit: the static observer (or ZAMO) there
 };
 
 template <class M, class S>
@@ -283,6 +285,8 @@ class PathTracer {
         }
         double n[3];
         e.energy = -momentum_to_frame(fh, res.y + 4, n);
+        for (int i = 0; i < 8; ++i) e.y[i] = res.y[i];
+        e.frame = fh;
         e.dir = V3(n);
         e.normal_local = local_normal(res.y, fh, sc_.surface(e.prim, e.pos).normal);
         e.to_local = local_map(res.y, fh);
@@ -307,7 +311,36 @@ class PathTracer {
   V3 emission(const SegmentEnd& e) const {
     if (e.status == kEscaped) return sc_.sky(e.sheet).radiance(e.dir);
     if (e.status != kHit) return {0, 0, 0};
-    return sc_.emitted(e.prim, sc_.surface(e.prim, e.pos), e.normal_local, -e.dir);
+    const V3 L = sc_.emitted(e.prim, sc_.surface(e.prim, e.pos), e.normal_local, -e.dir);
+    const Material& m = sc_.materials[sc_.prims[e.prim].material];
+    if (!m.beaming || max_component(L) <= 0.0) return L;
+    const double g = shift(e, m);
+    return L * (g * g * g * g);  // I_nu / nu^3 is invariant: bolometric radiance goes as g^4
+  }
+
+  // g = nu_received / nu_emitted for light from the emitter at a hit to the segment's start observer:
+  // 1 / (p . u_emitter) with the backward momentum normalised to unit energy at the start.
+  double shift(const SegmentEnd& e, const Material& m) const {
+    if constexpr (M::kFlat) {
+      (void)e;
+      (void)m;
+      return 1.0;
+    } else {
+      double E = e.energy;  // static emitter
+      if (m.keplerian) {
+        const double om = m_.keplerian_omega(e.y);
+        const double v[4] = {1.0, -om * e.y[2], om * e.y[1], 0.0};  // d/dt + Omega d/dphi
+        double n2 = 0.0;
+        for (int a = 0; a < 4; ++a)
+          for (int b = 0; b < 4; ++b) n2 += e.frame.g[a][b] * v[a] * v[b];
+        if (n2 < 0.0) {  // timelike: a circular orbit exists here
+          const double s = 1.0 / std::sqrt(-n2);
+          E = 0.0;
+          for (int a = 0; a < 4; ++a) E += e.y[4 + a] * v[a] * s;
+        }
+      }
+      return E > 0.0 ? 1.0 / E : 0.0;
+    }
   }
 
   // Mixture pdf of the light strategy for local direction w at user point x.
@@ -366,7 +399,9 @@ class PathTracer {
       const SegmentEnd e = trace(x, sheet, d, skip, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
       if (bounce == 0 && s == 0) {
         film.status[pix] = float(e.status);
-        film.redshift[pix] = (e.status == kHit || e.status == kEscaped) && e.energy > 0.0 ? float(1.0 / e.energy) : 0.0f;
+        double g = (e.status == kHit || e.status == kEscaped) && e.energy > 0.0 ? 1.0 / e.energy : 0.0;
+        if (e.status == kHit) g = shift(e, sc_.materials[sc_.prims[e.prim].material]);
+        film.redshift[pix] = float(g);
         film.depth[pix] = e.status == kHit ? float(length(e.pos - cam.position)) : INFINITY;
         if (e.status == kHit) {
           const V3 n = sc_.surface(e.prim, e.pos).normal;

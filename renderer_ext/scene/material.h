@@ -22,6 +22,8 @@ struct Material {
   double ior = 1.5;
   double strength = 1.0;  // emission scale
   bool two_sided = false;
+  bool beaming = false;    // emission scaled by g^4 (Doppler + gravitational shift of the emitter)
+  bool keplerian = false;  // the emitter orbits prograde about +z (accretion disk) instead of being static
   bool is_delta() const { return kind == MaterialKind::kMirror || kind == MaterialKind::kGlass; }
 };
 

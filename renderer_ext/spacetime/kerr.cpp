@@ -89,6 +89,11 @@ struct Kerr : MetricBase<Kerr> {
     const double r_ph = 2.0 * M * (1.0 + std::cos(2.0 / 3.0 * std::acos(-std::fabs(a) / M)));
     return r_plus + 0.5 * (r_ph - r_plus);
   }
+  // Prograde equatorial circular orbit (Bardeen, Press & Teukolsky): Omega = sqrt(M) / (r^1.5 + a sqrt(M)).
+  double keplerian_omega(const double* x) const {
+    const double r = radius(x), sm = std::sqrt(M);
+    return sm / (r * std::sqrt(r) + a * sm);
+  }
   double length_scale() const { return M; }
 
   void conserved(const double y[8], double out[]) const {

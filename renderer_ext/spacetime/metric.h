@@ -136,6 +136,10 @@ struct MetricBase {
   // photon orbit, inside which no inward-moving light ray turns back out.
   double capture_radius() const { return self().horizon_radius(); }
 
+  // Angular velocity d(phi)/dt about +z of a prograde circular (Keplerian) orbit through chart point x,
+  // for emitters that orbit (accretion disks); 0 where nothing pulls.
+  double keplerian_omega(const double* /*x*/) const { return 0.0; }
+
   // Length scale of the strong-field region, used by the seed RK4 step halving and drift scales.
   double length_scale() const { return 1.0; }
 

@@ -57,6 +57,10 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
   double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }
   double horizon_radius() const { return 2.0 * M; }
   double capture_radius() const { return 2.5 * M; }  // between the horizon and the photon sphere (3M)
+  double keplerian_omega(const double* x) const {
+    const double r = radius(x);
+    return std::sqrt(M / (r * r * r));
+  }
   double length_scale() const { return M; }
 
   void conserved(const double y[8], double out[]) const {
