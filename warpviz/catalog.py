@@ -1,0 +1,97 @@
+"""The shipped figure scenes: where they live and how a bare name such as ``fig07`` finds its file.
+
+Shipped scenes are the ``scenes/*.toml`` files of the repository, the folder next to the ``warpviz``
+package (warpviz is installed in editable mode, so the package directory is the repository's). The
+environment variable ``WARPVIZ_SCENES`` (folders separated by ``os.pathsep``) is searched first, for
+installations that keep the scenes elsewhere.
+
+Examples
+--------
+>>> from warpviz.catalog import resolve_scene, shipped_scenes
+>>> resolve_scene("fig07").name
+'fig07_schwarzschild_cornell.toml'
+>>> len(shipped_scenes()) >= 17
+True
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+import tomllib
+from pathlib import Path
+
+
+def scene_dirs() -> list[Path]:
+    """Folders searched for shipped scenes, in order: ``$WARPVIZ_SCENES`` entries, then ``<repo>/scenes``."""
+    dirs = [Path(p) for p in os.environ.get("WARPVIZ_SCENES", "").split(os.pathsep) if p]
+    dirs.append(Path(__file__).resolve().parent.parent / "scenes")
+    return [d for d in dirs if d.is_dir()]
+
+
+def shipped_scenes() -> list[Path]:
+    """Every shipped scene file, sorted by name (a name found in an earlier folder hides later ones)."""
+    seen: dict[str, Path] = {}
+    for d in scene_dirs():
+        for p in sorted(d.glob("*.toml")):
+            seen.setdefault(p.name, p)
+    return [seen[k] for k in sorted(seen)]
+
+
+def scene_description(path: str | Path) -> str:
+    """First line of a scene file's ``description`` ('' if it has none or cannot be read)."""
+    try:
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
+        return ""
+    text = data.get("description", "")
+    return text.strip().splitlines()[0] if isinstance(text, str) and text.strip() else ""
+
+
+def looks_like_path(spec: str | Path) -> bool:
+    """Whether ``spec`` names a file (has a folder part or a suffix) rather than a shipped scene name."""
+    s = str(spec)
+    return isinstance(spec, Path) or os.sep in s or "/" in s or Path(s).suffix != ""
+
+
+def resolve_scene(spec: str | Path) -> Path:
+    """The scene file for ``spec``: an existing path, or the name of a shipped scene.
+
+    A name matches a shipped scene whose file stem equals it, or starts with it followed by ``_``
+    (``fig07`` → ``fig07_schwarzschild_cornell.toml``), or, failing those, starts with it when only one
+    does (``fig02`` → ``fig02_...``; ``fig10`` is ambiguous between ``fig10a`` … ``fig10e``).
+
+    Parameters
+    ----------
+    spec : str or Path
+        Path of a TOML file, or a shipped scene's name.
+
+    Returns
+    -------
+    Path
+        An existing file.
+
+    Raises
+    ------
+    FileNotFoundError
+        Nothing matches; the message suggests close names.
+    LookupError
+        The name matches several shipped scenes; the message lists them.
+    """
+    p = Path(spec)
+    if p.is_file():
+        return p
+    if looks_like_path(spec):
+        raise FileNotFoundError(f"{spec}: no such scene file")
+    name = str(spec)
+    scenes = shipped_scenes()
+    stems = [s.stem for s in scenes]
+    for test in (lambda s: s == name, lambda s: s.startswith(name + "_"), lambda s: s.startswith(name)):
+        found = [scenes[i] for i, s in enumerate(stems) if test(s)]
+        if len(found) == 1:
+            return found[0]
+        if len(found) > 1:
+            raise LookupError(f"scene name {name!r} is ambiguous: {', '.join(f.stem for f in found)}")
+    close = difflib.get_close_matches(name, stems, n=3, cutoff=0.5)
+    hint = f"; did you mean {' or '.join(close)}?" if close else "; `warpviz scenes` lists the shipped scenes"
+    raise FileNotFoundError(f"{name}: no such scene file or shipped scene{hint}")
