@@ -60,3 +60,23 @@ def test_huge_origins_and_extreme_tolerances():
     assert_sane(tight, drift=1e-13)
     loose = wv.trace(bh, [-50.0, 0, 0], [[1.0, 0.1, 0], [1, 0.15, 0]], tol=1e-3)
     assert loose.status_names.tolist() == ["horizon", "escaped"]
+
+
+@pytest.mark.parametrize("eps", [1e-3, 1e-6])
+@pytest.mark.parametrize("metric", [wv.Schwarzschild(mass=1.0), wv.Kerr(mass=1.0, spin=0.9)],
+                         ids=["schwarzschild", "kerr"])
+def test_outgoing_rays_from_just_outside_the_horizon_escape(metric, eps):
+    """Radially outgoing light from r = r+ (1 + eps), on the pole and in the equatorial plane, escapes
+    along its initial direction. Its coordinate momentum starts at ~1/eps and falls to ~1 on the way
+    out; the null-condition error is measured against the largest size it had, so the rounding
+    committed near the horizon does not mark the ray as violating."""
+    r0 = metric.horizon_radius * (1 + eps)
+    origins = [[0, 0, r0], [0, 0, -r0]]
+    directions = [[0, 0, 1], [0, 0, -1]]
+    if isinstance(metric, wv.Schwarzschild):
+        origins.append([r0, 0, 0])
+        directions.append([1, 0, 0])
+    rays = wv.trace(metric, origins, directions, tol=1e-9)
+    assert set(rays.status_names) == {"escaped"}
+    np.testing.assert_allclose(rays.final_directions, directions, atol=1e-9)
+    assert rays.invariant_drift["H"].max() < 1e-8

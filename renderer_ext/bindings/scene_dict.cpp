@@ -44,6 +44,18 @@ V3 vec3(const nb::dict& d, const char* key, const std::string& where, V3 dflt, b
   return v;
 }
 
+// A pair of positive numbers [u, v] (checker scale, grid cells, image repeats).
+void pair(const nb::dict& d, const char* key, const std::string& where, double dflt, double& u, double& v) {
+  u = v = dflt;
+  nb::handle h = get(d, key, where, false);
+  if (!h.is_valid() || h.is_none()) return;
+  const std::string w = where + "." + key;
+  nb::sequence seq;
+  if (!nb::try_cast<nb::sequence>(h, seq) || nb::len(seq) != 2 || !nb::try_cast<double>(seq[0], u) ||
+      !nb::try_cast<double>(seq[1], v) || !(u > 0 && v > 0 && std::isfinite(u) && std::isfinite(v)))
+    fail(w, "must be a list of 2 positive numbers");
+}
+
 nb::dict sub(nb::handle h, const std::string& where) {
   nb::dict out;
   if (!nb::try_cast<nb::dict>(h, out)) fail(where, "must be a table (dict)");
@@ -149,26 +161,18 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
         tex.kind = TextureKind::kChecker;
         tex.a = vec3(t, "color_a", w, {}, true);
         tex.b = vec3(t, "color_b", w, {}, true);
-        const V3 s = vec3(t, "scale", w, {8, 8, 0});
-        tex.su = s.x; tex.sv = s.y;
+        pair(t, "scale", w, 8.0, tex.su, tex.sv);
       } else if (ty == "grid") {
         tex.kind = TextureKind::kGrid;
         tex.a = vec3(t, "base", w, {}, true);
         tex.b = vec3(t, "line_u", w, {}, true);
         tex.c = vec3(t, "line_v", w, {}, true);
-        const nb::sequence cells = nb::cast<nb::sequence>(get(t, "cells", w));
-        if (nb::len(cells) != 2) fail(w + ".cells", "must be [nu, nv]");
-        tex.su = nb::cast<double>(cells[0]);
-        tex.sv = nb::cast<double>(cells[1]);
+        pair(t, "cells", w, 10.0, tex.su, tex.sv);
         tex.width = number(t, "width", w, 0.05);
       } else if (ty == "image") {
         tex.kind = TextureKind::kImage;
         image_into(get(t, "data", w), w + ".data", tex);
-        if (t.contains("repeat")) {
-          const nb::sequence r = nb::cast<nb::sequence>(t["repeat"]);
-          tex.su = nb::cast<double>(r[0]);
-          tex.sv = nb::cast<double>(r[1]);
-        }
+        pair(t, "repeat", w, 1.0, tex.su, tex.sv);
       } else {
         fail(w + ".type", "unknown texture type '" + ty + "' (known: constant, checker, grid, image)");
       }

@@ -67,9 +67,14 @@ double hamiltonian(const M& m, const double y[8]) {
   return 0.5 * s;
 }
 
-// Relative size of H: |2H| over the Euclidean size of the terms, 0 for an exact null vector.
+// |2H| and the Euclidean size of its terms g^{mu nu} p_mu p_nu (their ratio is 0 for an exact null vector).
+struct HamiltonianParts {
+  double abs2h = 0.0, mag = 0.0;
+  double relative() const { return mag > 0.0 ? abs2h / mag : 0.0; }
+};
+
 template <class M>
-double hamiltonian_error(const M& m, const double y[8]) {
+HamiltonianParts hamiltonian_parts(const M& m, const double y[8]) {
   double gi[4][4];
   m.inverse_metric(y, gi);
   double s = 0.0, mag = 0.0;
@@ -79,19 +84,19 @@ double hamiltonian_error(const M& m, const double y[8]) {
       s += t;
       mag += std::fabs(t);
     }
-  return mag > 0.0 ? std::fabs(s) / mag : 0.0;
+  return {std::fabs(s), mag};
 }
 
-// The same measure from a state and its Hamilton derivative f = rhs(y), at no extra metric evaluation:
+// The same parts from a state and its Hamilton derivative f = rhs(y), at no extra metric evaluation:
 // dx^mu/dlambda = g^{mu nu} p_nu, so p_mu dx^mu/dlambda = 2H.
-inline double hamiltonian_error_from_rhs(const double y[8], const double f[8]) {
+inline HamiltonianParts hamiltonian_parts_from_rhs(const double y[8], const double f[8]) {
   double s = 0.0, mag = 0.0;
   for (int a = 0; a < 4; ++a) {
     const double t = y[4 + a] * f[a];
     s += t;
     mag += std::fabs(t);
   }
-  return mag > 0.0 ? std::fabs(s) / mag : 0.0;
+  return {std::fabs(s), mag};
 }
 
 // Angular momentum L = x cross p (the rotation Killing fields contracted with p), Cartesian charts.
