@@ -260,6 +260,67 @@ nb::dict render(nb::dict scene, nb::dict options) {
   return out;
 }
 
+
+// Test hook for the BSDFs: samples material `material` (a native material dict, constant albedo) at
+// local normal n for outgoing direction wo with the given uniforms u (N, 3), and evaluates the BSDF at
+// the sampled directions and at the given directions `at` (M, 3). Returns wi (N, 3), weight (N, 3),
+// pdf (N,), delta (N,), valid (N,), f_eval (N, 3) (= BSDF |cos|, 0 for delta lobes), pdf_eval (N,),
+// f_at (M, 3) and pdf_at (M,).
+nb::dict bsdf(nb::dict material, std::vector<double> albedo, std::vector<double> n, std::vector<double> wo, F64In u,
+              F64In at) {
+  if (albedo.size() != 3 || n.size() != 3 || wo.size() != 3) throw std::invalid_argument("albedo, n and wo need 3 components");
+  if (u.ndim() != 2 || u.shape(1) != 3) throw std::invalid_argument("u must have shape (N, 3)");
+  if (at.ndim() != 2 || at.shape(1) != 3) throw std::invalid_argument("at must have shape (M, 3)");
+  nb::dict scene;
+  nb::list mats;
+  mats.append(material);
+  scene["materials"] = mats;
+  wv::Scene sc;
+  nb::dict cam;
+  cam["position"] = std::vector<double>{0, 0, 1};
+  cam["look_at"] = std::vector<double>{0, 0, 0};
+  scene["camera"] = cam;
+  scene["shapes"] = nb::list();
+  wv::scene_from_dict(scene, sc);
+  const wv::Material& m = sc.materials.at(0);
+  const wv::V3 A(albedo.data()), N = wv::normalize(wv::V3(n.data())), WO = wv::normalize(wv::V3(wo.data()));
+  const size_t count = u.shape(0);
+  std::vector<double> wi(3 * count), weight(3 * count), pdf(count), fe(3 * count), pe(count);
+  std::vector<int8_t> delta(count), valid(count);
+  for (size_t i = 0; i < count; ++i) {
+    const double* ui = u.data() + 3 * i;
+    const wv::BsdfSample b = wv::bsdf_sample(m, A, N, WO, ui[0], ui[1], ui[2]);
+    double pev = 0.0;
+    const wv::V3 f = wv::bsdf_eval(m, A, N, WO, b.wi, pev);
+    for (int c = 0; c < 3; ++c) {
+      wi[3 * i + c] = b.wi[c];
+      weight[3 * i + c] = b.weight[c];
+      fe[3 * i + c] = f[c];
+    }
+    pdf[i] = b.pdf;
+    pe[i] = pev;
+    delta[i] = b.delta;
+    valid[i] = b.valid;
+  }
+  const size_t M = at.shape(0);
+  std::vector<double> f_at(3 * M), pdf_at(M);
+  for (size_t i = 0; i < M; ++i) {
+    const wv::V3 f = wv::bsdf_eval(m, A, N, WO, wv::normalize(wv::V3(at.data() + 3 * i)), pdf_at[i]);
+    for (int c = 0; c < 3; ++c) f_at[3 * i + c] = f[c];
+  }
+  nb::dict out;
+  out["f_at"] = to_numpy(std::move(f_at), {M, 3});
+  out["pdf_at"] = to_numpy(std::move(pdf_at), {M});
+  out["wi"] = to_numpy(std::move(wi), {count, 3});
+  out["weight"] = to_numpy(std::move(weight), {count, 3});
+  out["pdf"] = to_numpy(std::move(pdf), {count});
+  out["delta"] = to_numpy(std::move(delta), {count});
+  out["valid"] = to_numpy(std::move(valid), {count});
+  out["f_eval"] = to_numpy(std::move(fe), {count, 3});
+  out["pdf_eval"] = to_numpy(std::move(pe), {count});
+  return out;
+}
+
 nb::list metrics() {
   nb::list out;
   for (const auto& e : wv::metric_registry()) {
@@ -279,6 +340,8 @@ NB_MODULE(_core, m) {
   m.def("metrics", &metrics, "Registered metrics: list of {name, params, invariants}.");
   m.def("render", &render, "scene"_a, "options"_a,
         "Path-trace a native scene dict (docs/native-scene.md); see warpviz.render.");
+  m.def("bsdf", &bsdf, "material"_a, "albedo"_a, "n"_a, "wo"_a, "u"_a, "at"_a,
+        "Test hook: sample and evaluate one material's BSDF in a local frame.");
   m.def("trace", &trace, "metric"_a, "params"_a, "origins"_a, "directions"_a, "sheets"_a, "tol"_a, "stepper"_a,
         "max_steps"_a, "escape_radius"_a, "max_drift"_a, "rk4_step"_a, "record"_a, "threads"_a,
         "Trace rays; see warpviz.trace for the documented interface.");
