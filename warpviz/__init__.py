@@ -63,3 +63,7 @@ __all__ = [
     "save_scene_vtm",
     "scene_multiblock",
 ]
+
+from warpviz.viewer import view
+
+__all__ += ["view"]
