@@ -90,12 +90,14 @@ def main(argv=None) -> None:
 
     ys = np.linspace(-10.0, 10.0, args.rays)
     step = ys[1] - ys[0] if len(ys) > 1 else 0.0
-    print(f"fans of {len(ys)} parallel rays from x = -{START:g} M along +x at heights y = -10 ... 10 M (spacing {step:.2f} M);")
+    print(f"fans of {len(ys)} parallel rays from x = -{START:g} M along +x at heights y = -10 ... 10 M "
+          f"(spacing {step:.2f} M);")
     print("y < 0 passes the hole moving with a positive spin (prograde)")
     print(f"{'hole':<22} {'captured y (measured)':>22} {'prediction':>18}")
     fans = {}
-    for name, metric in [(f"Kerr a = +{SPIN}", wv.Kerr(mass=1.0, spin=SPIN)), ("Schwarzschild", wv.Schwarzschild(mass=1.0)),
-                         (f"Kerr a = -{SPIN}", wv.Kerr(mass=1.0, spin=-SPIN))]:  # fmt: skip
+    holes = [(f"Kerr a = +{SPIN}", wv.Kerr(mass=1.0, spin=SPIN)), ("Schwarzschild", wv.Schwarzschild(mass=1.0)),
+             (f"Kerr a = -{SPIN}", wv.Kerr(mass=1.0, spin=-SPIN))]  # fmt: skip
+    for name, metric in holes:
         rays = fan(metric, ys)
         fans[name] = rays
         captured = ys[rays.status == int(wv.RayStatus.HORIZON)]

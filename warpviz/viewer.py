@@ -171,7 +171,7 @@ def _texture_color(texture: Mapping[str, Any] | None) -> np.ndarray:
     if kind == "constant":
         return np.asarray(texture["color"], dtype=np.float64)
     if kind == "checker":
-        return 0.5 * (np.asarray(texture["color_a"], dtype=np.float64) + np.asarray(texture["color_b"], dtype=np.float64))
+        return 0.5 * np.add(np.asarray(texture["color_a"], dtype=np.float64), texture["color_b"])
     if kind == "grid":
         return np.asarray(texture["base"], dtype=np.float64)
     if kind == "image":
@@ -582,9 +582,9 @@ class TeachingView:
         self._replace(self._scene_renderer, "highlight",
                       shown.extract_cells(pixel_ids) if shown is not None and len(pixel_ids) else None,
                       color=_SELECTED_COLOR, line_width=5, lighting=False, pickable=False)  # fmt: skip
-        self._replace(self._scene_renderer, "picked",
-                      shown.extract_cells([self.picked_ray]) if shown is not None and self.picked_ray is not None else None,
-                      color=_PICKED_COLOR, line_width=6, lighting=False, pickable=False)  # fmt: skip
+        picked = shown.extract_cells([self.picked_ray]) if shown is not None and self.picked_ray is not None else None
+        self._replace(self._scene_renderer, "picked", picked, color=_PICKED_COLOR, line_width=6, lighting=False,
+                      pickable=False)  # fmt: skip
 
         flat = None
         segments = self.flat_rays() if self.flat_visible else np.zeros((0, 2, 3))
