@@ -51,6 +51,7 @@ DEFAULT_OPTIONS = {
     "escape_radius": 1e3,
     "max_drift": None,  # max(1e-6, 1e3 * tol)
     "chord_tolerance": 1e-3,
+    "aim_lights": True,  # curved space: aim light samples with pilot geodesics (integrators/light_aim.h)
 }
 
 
@@ -74,6 +75,7 @@ def render(
     max_depth: int | None = None,
     stepper: str | None = None,
     tol: float | None = None,
+    aim_lights: bool | None = None,
     progress: Callable[[int, int], object] | None = None,
     record_pixels=None,
 ) -> Image:
@@ -105,6 +107,9 @@ def render(
         Integrator for curved rays.
     tol : float, optional, keyword-only
         Integration tolerance.
+    aim_lights : bool, optional, keyword-only
+        In curved space, aim the light connection with two pilot geodesics per light and vertex so the
+        sampled directions land on the lights despite bending (default True). Unbiased either way.
     progress : callable, optional, keyword-only
         Called about every 20 ms as ``progress(samples_done, samples_total)`` from the calling thread.
         Raising ``KeyboardInterrupt`` in it stops the render like Ctrl-C.
@@ -124,7 +129,7 @@ def render(
     """
     native, options, source = _resolve(scene, flat=flat, width=width, height=height, paper=paper)
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
-                 "stepper": stepper, "tol": tol}  # fmt: skip
+                 "stepper": stepper, "tol": tol, "aim_lights": aim_lights}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:
             options[key] = value

@@ -142,6 +142,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.trace.escape_radius = option<double>(options, "escape_radius", 1e3);
   o.trace.max_drift = option<double>(options, "max_drift", std::max(1e-6, 1e3 * o.trace.tol));
   o.chord_tol = option<double>(options, "chord_tolerance", 1e-3);
+  o.aim_lights = option<bool>(options, "aim_lights", true);
   o.threads = option<int>(options, "threads", 0);
   const auto stepper = stepper_kind(option<std::string>(options, "stepper", "dopri5"));
   if (o.spp < 1) throw std::invalid_argument("spp must be >= 1");

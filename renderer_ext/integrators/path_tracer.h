@@ -22,6 +22,7 @@
 #include "core/parallel.h"
 #include "core/rng.h"
 #include "film/film.h"
+#include "integrators/light_aim.h"
 #include "integrators/surface_hits.h"
 #include "scene/light.h"
 #include "scene/scene.h"
@@ -39,6 +40,7 @@ struct RenderOptions {
   bool light_sampling = true;
   TraceOptions trace;  // tol, max_steps, escape_radius, max_drift (record is ignored)
   double chord_tol = 1e-3;
+  bool aim_lights = true;  // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
   int threads = 0;
   std::vector<int32_t> record_pixels;  // (x, y) pairs whose paths are recorded
   // Called from the calling thread every ~20 ms with (samples done, samples total); false cancels.
@@ -343,11 +345,93 @@ class PathTracer {
     }
   }
 
-  // Mixture pdf of the light strategy for local direction w at user point x.
-  double lights_pdf(V3 x, int sheet, const LinearMap& L, V3 w) const {
+  // Where the light proxies are seen from at a vertex: x shifted by each light's pilot miss.
+  static constexpr int kAimedLights = 8;
+  static constexpr int kPilots = 2;
+  struct Aim {
+    V3 from[kAimedLights];
+  };
+
+  // Centre and plane normal of light prim p as aimed at from x.
+  void light_target(int p, V3 x, V3& c, V3& nrm) const {
+    const Prim& pr = sc_.prims[p];
+    if (pr.kind == PrimKind::kQuad) {
+      const Quad& q = sc_.quads[pr.index];
+      c = q.corner + (q.eu + q.ev) * 0.5;
+      nrm = q.normal;
+    } else if (pr.kind == PrimKind::kDisk) {
+      const Disk& k = sc_.disks[pr.index];
+      c = k.center;
+      nrm = k.normal;
+    } else {
+      c = sc_.spheres[pr.index].center;
+      nrm = normalize(c - x);
+    }
+  }
+
+  // Pilot geodesics from vertex e towards each light (curved space only).
+  Aim aim(const SegmentEnd& e, V3 n_user, V3 wo, Stats& st) const {
+    Aim a;
+    for (int i = 0; i < kAimedLights; ++i) a.from[i] = e.pos;
+    if constexpr (M::kFlat) {
+      (void)n_user;
+      (void)wo;
+      (void)st;
+      return a;
+    } else {
+      if (!o_.aim_lights) return a;
+      const int n = std::min<int>(kAimedLights, int(sc_.lights.size()));
+      for (int i = 0; i < n; ++i) {
+        const int p = sc_.lights[i];
+        if (sc_.prims[p].sheet != e.sheet) continue;
+        V3 c, nrm;
+        light_target(p, e.pos, c, nrm);
+        // Fixed-point iteration on the aim point: aim where the last pilot's miss says to.
+        V3 target = c;
+        for (int it = 0; it < kPilots; ++it) {
+          const V3 w0 = normalize(e.to_local(target - e.pos));
+          if (dot(w0, e.normal_local) * dot(wo, e.normal_local) <= 0.0) break;  // behind the surface
+          V3 hit;
+          if (!pilot(offset(e.pos, n_user, e.normal_local, w0), e.sheet, w0, c, nrm, hit, st)) break;
+          V3 miss = hit - c;
+          miss = miss - nrm * dot(miss, nrm);
+          if (!finite(miss) || length(miss) > 2.0 * length(c - e.pos)) break;
+          target = target - miss;
+          a.from[i] = e.pos + (c - target);
+        }
+      }
+      return a;
+    }
+  }
+
+  // Traces a pilot from x along local direction d to the plane (c, nrm); false if it never gets there.
+  bool pilot(V3 x, int sheet, V3 d, V3 c, V3 nrm, V3& hit, Stats& st) const {
+    double x4[4], y[8];
+    ObserverFrame f;
+    if (!m_.user_to_chart(&x.x, sheet, x4) || m_.absorbed(x4) || !observer_frame(m_, x4, f)) return false;
+    double p[4], minus_d[3] = {-d.x, -d.y, -d.z};
+    frame_to_momentum(f, minus_d, p);
+    for (int i = 0; i < 4; ++i) {
+      y[i] = x4[i];
+      y[4 + i] = -p[i];
+    }
+    PlaneTarget<M> target{m_, c, nrm, sheet};
+    RayResult res;
+    integrate_ray<M, S, PlaneTarget<M>>(m_, y, sheet, topt_, res, nullptr, &target);
+    ++st.segments;
+    st.steps += res.n_steps;
+    if (res.status != kHit) return false;
+    hit = V3(res.pos);
+    return true;
+  }
+
+  // Mixture pdf of the light strategy for local direction w at a vertex on `sheet`.
+  double lights_pdf(const Aim& a, int sheet, const LinearMap& L, V3 w) const {
     double s = 0.0;
-    for (int l : sc_.lights)
-      if (sc_.prims[l].sheet == sheet) s += light_pdf(sc_, l, x, L, w);
+    for (size_t i = 0; i < sc_.lights.size(); ++i) {
+      const int l = sc_.lights[i];
+      if (sc_.prims[l].sheet == sheet) s += light_pdf(sc_, l, a.from[std::min<size_t>(i, kAimedLights - 1)], L, w);
+    }
     return s / double(sc_.lights.size());
   }
 
@@ -416,17 +500,21 @@ class PathTracer {
       const SurfacePoint sp = sc_.surface(e.prim, e.pos);
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
       const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
+      Aim aimed;
       if (nee) {
-        // Light strategy: a direction from the flat-space proxy of one light, traced as a geodesic.
+        // Light strategy: a direction from the (pilot-aimed) flat-space proxy of one light, traced as a
+        // geodesic.
+        aimed = aim(e, sp.normal, wo, st);
         const int li = std::min(int(sc_.lights.size()) - 1, int(rng.uniform() * sc_.lights.size()));
         const double u1 = rng.uniform(), u2 = rng.uniform();
         V3 wl;
         double pl_one;
         const int lp = sc_.lights[li];
-        if (sc_.prims[lp].sheet == e.sheet && sample_light(sc_, lp, e.pos, e.to_local, u1, u2, wl, pl_one)) {
+        const V3 from = aimed.from[std::min(li, kAimedLights - 1)];
+        if (sc_.prims[lp].sheet == e.sheet && sample_light(sc_, lp, from, e.to_local, u1, u2, wl, pl_one)) {
           double pb;
           const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
-          const double pl = lights_pdf(e.pos, e.sheet, e.to_local, wl);
+          const double pl = lights_pdf(aimed, e.sheet, e.to_local, wl);
           if (max_component(f) > 0.0 && pl > 0.0) {
             const SegmentEnd le =
                 trace(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, bounce + 1, kLightSegment);
@@ -440,7 +528,7 @@ class PathTracer {
       beta *= bs.weight;
       mis = 1.0;
       if (nee) {
-        const double pl = lights_pdf(e.pos, e.sheet, e.to_local, bs.wi);
+        const double pl = lights_pdf(aimed, e.sheet, e.to_local, bs.wi);
         mis = bs.pdf / (bs.pdf + pl);
       }
       if (bounce + 1 >= o_.rr_depth) {
