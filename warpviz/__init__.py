@@ -67,3 +67,7 @@ __all__ = [
 from warpviz.viewer import view
 
 __all__ += ["view"]
+
+from warpviz.scene import Scene, SceneError, load_scene
+
+__all__ += ["Scene", "SceneError", "load_scene"]
