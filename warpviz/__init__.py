@@ -1,7 +1,10 @@
 """warpviz: render and explain light in curved spacetime.
 
-The spacetime core traces null geodesics of Minkowski, Schwarzschild, Kerr and Ellis-wormhole
-spacetimes in C++ and returns them as :class:`RayBundle` objects.
+The C++ core traces null geodesics of Minkowski, Schwarzschild, Kerr and Ellis-wormhole spacetimes
+(:func:`trace`, returning :class:`RayBundle` objects) and path-traces scenes whose light rays are those
+geodesics (:func:`render`, returning an :class:`Image`). Scenes come from TOML files
+(:func:`load_scene`); rays and scenes export to VTK files and show in a PyVista teaching view
+(:func:`view`).
 
 >>> import warpviz as wv
 >>> rays = wv.trace(wv.Kerr(mass=1.0, spin=0.9), [0, -50.0, 0], [0, 1.0, 0])
@@ -10,12 +13,7 @@ spacetimes in C++ and returns them as :class:`RayBundle` objects.
 """
 
 from warpviz._native import build_info, registered_metrics
-from warpviz.metrics import EllisWormhole, Kerr, Metric, Minkowski, Schwarzschild, metric_from_dict
-from warpviz.rays import RayBundle, RayStatus
-from warpviz.trace import STEPPERS, trace
-from warpviz.image import Image
-from warpviz.render import render
-from warpviz.io import atomic_write, read_rays, write_vtm, write_vtp
+from warpviz.export import save_scene_vtm, scene_multiblock
 from warpviz.geometry import (
     camera_frustum,
     ellis_embedding,
@@ -27,26 +25,36 @@ from warpviz.geometry import (
     scene_surfaces,
     throat_surface,
 )
-from warpviz.export import save_scene_vtm, scene_multiblock
+from warpviz.image import Image
+from warpviz.io import atomic_write, read_rays, write_vtm, write_vtp
+from warpviz.metrics import EllisWormhole, Kerr, Metric, Minkowski, Schwarzschild, metric_from_dict
+from warpviz.rays import RayBundle, RayStatus
+from warpviz.render import render
+from warpviz.scene import Scene, SceneError, load_scene
+from warpviz.trace import STEPPERS, trace
+from warpviz.viewer import view
 
 __version__ = "0.1.0"
 
 __all__ = [
+    # spacetimes and geodesics
     "EllisWormhole",
     "Kerr",
     "Metric",
     "Minkowski",
+    "Schwarzschild",
+    "metric_from_dict",
+    "STEPPERS",
     "RayBundle",
     "RayStatus",
-    "STEPPERS",
-    "Schwarzschild",
-    "build_info",
-    "metric_from_dict",
-    "registered_metrics",
     "trace",
-    "__version__",
+    # scenes and rendering
     "Image",
+    "Scene",
+    "SceneError",
+    "load_scene",
     "render",
+    # files, geometry and the teaching view
     "atomic_write",
     "read_rays",
     "write_vtm",
@@ -62,12 +70,9 @@ __all__ = [
     "throat_surface",
     "save_scene_vtm",
     "scene_multiblock",
+    "view",
+    # build
+    "build_info",
+    "registered_metrics",
+    "__version__",
 ]
-
-from warpviz.viewer import view
-
-__all__ += ["view"]
-
-from warpviz.scene import Scene, SceneError, load_scene
-
-__all__ += ["Scene", "SceneError", "load_scene"]
