@@ -57,7 +57,7 @@ def test_recording_layout_and_point_data():
     assert rays.points.dtype == np.float64 and rays.points.shape == (p, 3)
     assert rays.offsets.shape == (n + 1,) and rays.offsets[0] == 0 and rays.offsets[-1] == p
     expected = {"affine_param", "coord_time", "r", "step_size", "hamiltonian_err", "E_drift", "Lz_drift",
-                "L2_drift", "log10_error", "sheet"}
+                "L2_drift", "log10_error", "redshift", "sheet"}
     assert set(rays.point_data) == expected
     for v in rays.point_data.values():
         assert v.shape == (p,) and np.isfinite(v).all()
@@ -68,6 +68,9 @@ def test_recording_layout_and_point_data():
         np.testing.assert_allclose(np.linalg.norm(rays.ray_points(i), axis=1), pd["r"], rtol=1e-12)
         np.testing.assert_allclose(rays.ray_points(i)[-1], rays.final_positions[i])
         np.testing.assert_allclose(pd["step_size"][1:], np.diff(pd["affine_param"]), rtol=1e-9)
+        # frequency seen by static observers relative to the start: sqrt(1 - 2M/r0) / sqrt(1 - 2M/r)
+        r = pd["r"][:-1] if rays.status[i] == wv.RayStatus.HORIZON else pd["r"]
+        np.testing.assert_allclose(pd["redshift"][: len(r)], np.sqrt(1 - 2 / 30) / np.sqrt(1 - 2 / r), rtol=1e-7)
     assert wv.trace(BH, [-30.0, 0, 0], [1, 0, 0]).points is None  # nothing recorded unless asked
 
 

@@ -67,7 +67,9 @@ class RayBundle:
     point_data : dict[str, numpy.ndarray]
         Per-point arrays of shape (P,): ``affine_param``, ``coord_time``, ``r`` (areal / Boyer–Lindquist
         radius), ``step_size``, ``hamiltonian_err``, ``<invariant>_drift`` for each invariant but H,
-        ``log10_error`` (log10 of the largest of those errors), ``sheet`` (int8).
+        ``log10_error`` (log10 of the largest of those errors), ``redshift`` (photon frequency seen by
+        the local static observer, or ZAMO, over the one at the ray's start; 0 on a horizon),
+        ``sheet`` (int8).
     ray_data : dict[str, numpy.ndarray]
         Extra per-ray arrays of shape (N,), any numeric dtype, e.g. ``pixel_x``, ``pixel_y``,
         ``sample``, ``bounce`` for paths recorded by the renderer. Empty for :func:`warpviz.trace`.
@@ -147,7 +149,7 @@ class RayBundle:
 
             * point data: every array of :attr:`point_data`, shape (P,), dtypes kept
               (``affine_param``, ``coord_time``, ``r``, ``step_size``, ``hamiltonian_err``,
-              ``<invariant>_drift``, ``log10_error`` float64; ``sheet`` int8).
+              ``<invariant>_drift``, ``log10_error``, ``redshift`` float64; ``sheet`` int8).
             * cell data, shape (N,): ``ray_id`` int64, ``status`` int8 (:class:`RayStatus` codes),
               ``n_steps`` int64, ``max_drift_<invariant>`` float64 for each entry of
               :attr:`invariant_drift` (e.g. ``max_drift_H``, ``max_drift_E``), ``max_drift``

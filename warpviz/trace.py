@@ -169,13 +169,10 @@ def trace(
     point_data: dict[str, np.ndarray] = {}
     if record:
         points, offsets, cols = raw["points"], raw["offsets"], raw["columns"]
-        names = ["affine_param", "coord_time", "r", "step_size", "hamiltonian_err"]
-        names += [f"{k}_drift" for k in list(drift)[1:]]
-        for i, name in enumerate(names):
-            point_data[name] = cols[i]
-        errors = np.vstack([cols[i] for i in range(4, len(names))])
+        for i, name in enumerate(raw["column_names"]):
+            point_data[name] = cols[i].astype(np.int8) if name == "sheet" else cols[i]
+        errors = np.vstack([point_data["hamiltonian_err"]] + [point_data[f"{k}_drift"] for k in list(drift)[1:]])
         point_data["log10_error"] = np.log10(np.maximum(errors.max(axis=0), 1e-300))
-        point_data["sheet"] = cols[len(names)].astype(np.int8)
     return RayBundle(
         metric=metric,
         stepper=stepper,

@@ -33,6 +33,17 @@ nb::object to_numpy(std::vector<T>&& v, std::vector<size_t> shape) {
   return nb::cast(nb::ndarray<nb::numpy, T>(heap->data(), shape.size(), shape.data(), owner));
 }
 
+// Names of the per-point columns of recorded paths (geodesic.h, Track).
+nb::list column_names(const wv::Spacetime& st) {
+  nb::list names;
+  for (const char* c : {"affine_param", "coord_time", "r", "step_size", "hamiltonian_err"}) names.append(c);
+  const auto inv = st.invariant_names();
+  for (size_t k = 1; k < inv.size(); ++k) names.append(inv[k] + "_drift");
+  names.append("redshift");
+  names.append("sheet");
+  return names;
+}
+
 wv::StepperKind stepper_kind(const std::string& s) {
   if (s == "rk4") return wv::StepperKind::kRk4;
   if (s == "dopri5") return wv::StepperKind::kDopri5;
@@ -106,6 +117,7 @@ nb::dict trace(const std::string& metric, const std::vector<double>& params, F64
     out["points"] = to_numpy(std::move(r.points), {P, 3});
     out["offsets"] = to_numpy(std::move(r.offsets), {n + 1});
     out["columns"] = to_numpy(std::move(r.columns), {C, P});
+    out["column_names"] = column_names(*st);
   }
   return out;
 }
@@ -243,12 +255,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
     rays["points"] = to_numpy(std::move(points), {P, 3});
     rays["offsets"] = to_numpy(std::move(offsets), {N + 1});
     rays["columns"] = to_numpy(std::move(cols), {C, P});
-    nb::list names;
-    for (const char* c : {"affine_param", "coord_time", "r", "step_size", "hamiltonian_err"}) names.append(c);
-    const auto inv = st->invariant_names();
-    for (size_t k = 1; k < inv.size(); ++k) names.append(inv[k] + "_drift");
-    names.append("sheet");
-    rays["column_names"] = names;
+    rays["column_names"] = column_names(*st);
     rays["pixel_x"] = to_numpy(std::move(px), {N});
     rays["pixel_y"] = to_numpy(std::move(py), {N});
     rays["sample"] = to_numpy(std::move(sample), {N});

@@ -70,6 +70,17 @@ bool observer_frame(const M& m, const double x[4], ObserverFrame& f) {
   return true;
 }
 
+// Photon energy |p . u| measured by the local static observer (ZAMO in an ergoregion) at state y;
+// 0 where no such observer exists (on or inside a horizon).
+template <class M>
+double local_energy(const M& m, const double y[8]) {
+  ObserverFrame f;
+  if (!observer_frame(m, y, f)) return 0.0;
+  double e = 0.0;
+  for (int mu = 0; mu < 4; ++mu) e += y[4 + mu] * f.u[mu];
+  return std::fabs(e);
+}
+
 // Covariant momentum p_mu of a photon of unit local energy moving along the unit vector n of the frame.
 inline void frame_to_momentum(const ObserverFrame& f, const double n[3], double p[4]) {
   double pu[4];

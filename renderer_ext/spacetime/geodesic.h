@@ -52,7 +52,8 @@ struct NoSurfaces {
 };
 
 // One recorded polyline: xyz (3 per point, user frame) and `columns` values per point:
-// affine_param, coord_time, r, step_size, hamiltonian_err, drift of invariants 1..K-1, sheet.
+// affine_param, coord_time, r, step_size, hamiltonian_err, drift of invariants 1..K-1, redshift
+// (photon frequency seen by the local static observer / ZAMO over the one at the ray's start), sheet.
 struct Track {
   std::vector<double> xyz;
   std::vector<double> cols;
@@ -60,7 +61,7 @@ struct Track {
 
 template <class M>
 constexpr int track_columns() {
-  return 5 + (M::kNumInvariants - 1) + 1;
+  return 5 + (M::kNumInvariants - 1) + 2;
 }
 
 // Gauss-Legendre rule on [0, 1], nodes by Newton iteration on the Legendre recurrence.
@@ -162,6 +163,7 @@ void straight_ray(const M& m, const double y[8], int sheet, const TraceOptions& 
       const double row[] = {lam, y[0] + lam, r, k == 0 ? 0.0 : s, 0.0};
       track->cols.insert(track->cols.end(), row, row + 5);
       for (int j = 1; j < M::kNumInvariants; ++j) track->cols.push_back(0.0);
+      track->cols.push_back(1.0);  // no shift in flat space
       track->cols.push_back(double(sheet));
     }
   }
@@ -196,6 +198,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     res.n_steps = 0;
     double lam = 0.0;
 
+    const double energy0 = track ? local_energy(m, y) : 0.0;
     auto record = [&](const double* ys, double lam_s, double h) {
       if (!track) return;
       double pos[3];
@@ -206,6 +209,7 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
       track->cols.push_back(m.radius(ys));
       track->cols.push_back(h);
       for (int k = 0; k < K; ++k) track->cols.push_back(drift[k]);
+      track->cols.push_back(energy0 > 0.0 ? local_energy(m, ys) / energy0 : 0.0);
       track->cols.push_back(double(sh));
     };
     // Ends a ray that did not escape: its direction is the coordinate direction of motion.
