@@ -1,0 +1,185 @@
+"""Helpers shared by the benchmark scripts: machine description, CPU timing, CSV and plot output, and
+the equal-error interpolation of work-precision curves.
+
+Timings are CPU seconds of this process (``time.process_time``, all threads summed), so a rate is per
+core by construction and is not inflated when other processes share the machine. Wall-clock seconds
+are recorded beside them.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import platform
+import subprocess
+import time
+from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: Default output folder of the benchmark scripts.
+RESULTS = Path(__file__).resolve().parent / "results"
+
+
+def cpu_model() -> str:
+    """The CPU model name from ``/proc/cpuinfo`` (falls back to :func:`platform.processor`).
+
+    Returns
+    -------
+    str
+        E.g. ``"AMD EPYC"``.
+    """
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def machine_line(*, threads: int) -> str:
+    """One line describing the machine and the thread count of a run.
+
+    Parameters
+    ----------
+    threads : int, keyword-only
+        Worker threads the benchmark asks for (0 = every core).
+
+    Returns
+    -------
+    str
+        CPU model, logical cores, threads, load average, git version of the checkout.
+    """
+    try:
+        load = "load average {:.1f} {:.1f} {:.1f}".format(*os.getloadavg())
+    except OSError:
+        load = "load average unknown"
+    return f"{cpu_model()}, {os.cpu_count()} logical cores, threads={threads}, {load}, source {source_version()}"
+
+
+def source_version() -> str:
+    """``git describe --always --dirty`` of the checkout the benchmarks live in, or "unknown"."""
+    try:
+        out = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=Path(__file__).resolve().parent,
+                             capture_output=True, text=True, timeout=10, check=True)  # fmt: skip
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return out.stdout.strip() or "unknown"
+
+
+def timed(fn: Callable[[], Any]) -> tuple[Any, float, float]:
+    """Call ``fn()`` once and time it.
+
+    Parameters
+    ----------
+    fn : callable
+        No arguments.
+
+    Returns
+    -------
+    result : object
+        What ``fn`` returned.
+    cpu_seconds : float
+        Process CPU time of the call (every thread summed).
+    wall_seconds : float
+        Wall-clock time of the call.
+    """
+    c0, w0 = time.process_time(), time.perf_counter()
+    result = fn()
+    return result, time.process_time() - c0, time.perf_counter() - w0
+
+
+def write_csv(path: Path, rows: Sequence[dict]) -> Path:
+    """Write ``rows`` (dicts) as CSV; the columns are the union of their keys in first-seen order.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        Output file; its folder is created.
+    rows : sequence of dict
+        One dict per row; missing keys are written as empty cells.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    columns: list[str] = []
+    for row in rows:
+        columns += [k for k in row if k not in columns]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=columns)
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: _cell(v) for k, v in row.items()})
+    return path
+
+
+def _cell(value: Any) -> Any:
+    if isinstance(value, float):
+        return "" if math.isnan(value) else f"{value:.6g}"
+    return value
+
+
+def pareto_front(times: Iterable[float], errors: Iterable[float]) -> tuple[np.ndarray, np.ndarray]:
+    """The runs no other run beats in both time and error, sorted by increasing time.
+
+    Parameters
+    ----------
+    times, errors : iterable of float
+        Cost and error of each run (positive).
+
+    Returns
+    -------
+    times, errors : numpy.ndarray
+        The front: times increasing, errors strictly decreasing.
+    """
+    pts = sorted((t, e) for t, e in zip(times, errors) if t > 0 and e > 0 and math.isfinite(t) and math.isfinite(e))
+    front: list[tuple[float, float]] = []
+    for t, e in pts:
+        if not front or e < front[-1][1]:
+            front.append((t, e))
+    arr = np.array(front, dtype=float).reshape(-1, 2)
+    return arr[:, 0], arr[:, 1]
+
+
+def time_at_error(times: Iterable[float], errors: Iterable[float], target: float) -> float:
+    """Cost at which a method reaches ``target`` error, interpolated log-log on its Pareto front.
+
+    Parameters
+    ----------
+    times, errors : iterable of float
+        The method's runs.
+    target : float
+        Error to reach.
+
+    Returns
+    -------
+    float
+        Interpolated time, or NaN when ``target`` lies outside the front's error range (no extrapolation).
+    """
+    t, e = pareto_front(times, errors)
+    if len(t) == 0 or not (target > 0) or target > e[0] or target < e[-1]:
+        return math.nan
+    if len(t) == 1:
+        return float(t[0])
+    # errors decrease along the front: interpolate log t against -log e (increasing)
+    return float(np.exp(np.interp(-np.log(target), -np.log(e), np.log(t))))
+
+
+def pyplot():
+    """matplotlib.pyplot with the non-interactive Agg backend, or None (with a message) if missing."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("matplotlib is not installed: no plots written (pip install matplotlib)")
+        return None
+    return plt

@@ -1,0 +1,160 @@
+"""The benchmark scripts' quick modes: they run, write the documented CSV columns, and their error
+measurements behave (errors shrink with the tolerance). Timings are reported, never asserted."""
+
+import csv
+import importlib.util
+import math
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+import bench_render  # noqa: E402
+import bench_work_precision  # noqa: E402
+from _common import pareto_front, time_at_error  # noqa: E402
+
+
+def read_csv(path: Path) -> list[dict]:
+    with path.open() as f:
+        return list(csv.DictReader(f))
+
+
+@pytest.fixture(scope="module")
+def work_precision(tmp_path_factory):
+    out = tmp_path_factory.mktemp("wp")
+    rows = bench_work_precision.main(["--quick", "--no-plots", "--out", str(out)])
+    return rows, out
+
+
+@pytest.fixture(scope="module")
+def render(tmp_path_factory):
+    out = tmp_path_factory.mktemp("render")
+    result = bench_render.main(["--quick", "--no-plots", "--no-mitsuba", "--out", str(out)])
+    return result, out
+
+
+def test_work_precision_csv_has_every_metric_stepper_and_column(work_precision):
+    rows, out = work_precision
+    table = read_csv(out / "work_precision.csv")
+    assert list(table[0]) == bench_work_precision.COLUMNS
+    assert len(table) == len(rows)
+    assert {r["metric"] for r in table} == {"schwarzschild", "kerr_a0.5", "kerr_a0.9", "kerr_a0.998", "ellis"}
+    assert {(r["stepper"], r["variant"]) for r in table} == {
+        ("dopri5", "adaptive"), ("dop853", "adaptive"), ("rk4", "seed step 1 M"), ("rk4", "matched step")}
+    for r in rows:
+        assert r["geodesics_per_s_per_core"] > 0 and r["mean_steps"] > 0
+        assert r["status_mismatch"] == 0  # every ray ends as the reference's does
+        assert 0 < r["error"] < 0.01, r
+
+
+def test_dopri5_errors_decrease_with_tolerance(work_precision):
+    rows, _ = work_precision
+    for metric in {r["metric"] for r in rows}:
+        sweep = sorted((r["tol"], r["error"]) for r in rows if r["metric"] == metric and r["stepper"] == "dopri5")
+        tols, errors = zip(*sweep)
+        assert tols == (1e-10, 1e-8, 1e-6, 1e-4)
+        # tighter tolerance, strictly smaller error, and 1e6 in tolerance buys at least 1e4 in error
+        assert all(a < b for a, b in zip(errors, errors[1:])), (metric, errors)
+        assert errors[0] < 1e-4 * errors[-1], (metric, errors)
+
+
+def test_conserved_quantities_drift_less_at_tighter_tolerance(work_precision):
+    rows, _ = work_precision
+    for metric in {r["metric"] for r in rows}:
+        drift = {r["tol"]: r["drift_conserved"] for r in rows if r["metric"] == metric and r["stepper"] == "dopri5"}
+        assert 0 < drift[1e-10] < 1e-3 * drift[1e-4], (metric, drift)
+    for spin in ("0.5", "0.9", "0.998"):
+        drift = {r["tol"]: r for r in rows if r["metric"] == f"kerr_a{spin}" and r["stepper"] == "dopri5"}
+        assert drift[1e-10]["drift_conserved"] < 1e-3 * drift[1e-4]["drift_conserved"]
+        assert drift[1e-10]["drift_Q"] < 1e-8 and drift[1e-10]["drift_Lz"] < 1e-8
+        assert drift[1e-10]["drift_E"] == 0.0  # p_t is a state variable and H does not depend on t
+
+
+def test_rk4_errors_follow_the_halving_rule(work_precision):
+    """rk4's step near the mass is tol^(1/4) r: its error falls about as fast as the tolerance."""
+    rows, _ = work_precision
+    for metric in ("schwarzschild", "ellis"):
+        err = {r["tol"]: r["error"] for r in rows if r["metric"] == metric and r["variant"] == "seed step 1 M"}
+        assert 1e-3 < err[1e-6] / err[1e-4] < 0.1
+
+
+def test_speedup_columns_interpolate_rk4_at_dopri5_error(work_precision):
+    rows, _ = work_precision
+    row = next(r for r in rows if r["metric"] == "schwarzschild" and r["stepper"] == "dopri5" and r["tol"] == 1e-6)
+    rk4 = [r for r in rows if r["metric"] == "schwarzschild" and r["stepper"] == "rk4"]
+    expected = time_at_error([r["us_per_geodesic"] for r in rk4], [r["error"] for r in rk4], row["error"])
+    assert row["speedup_vs_rk4"] == pytest.approx(expected / row["us_per_geodesic"])
+    assert all(math.isnan(r["speedup_vs_rk4"]) for r in rk4)
+
+
+def test_time_at_error_interpolates_log_log_on_the_pareto_front():
+    times, errors = [1.0, 2.0, 3.0, 4.0, 100.0], [1e-2, 1e-4, 1e-3, 1e-6, 1e-5]  # 3.0 and 100.0 are dominated
+    assert pareto_front(times, errors)[0].tolist() == [1.0, 2.0, 4.0]
+    assert time_at_error(times, errors, 1e-4) == pytest.approx(2.0)
+    assert time_at_error(times, errors, 1e-5) == pytest.approx(2.0 * math.sqrt(2.0))  # halfway in log e
+    assert math.isnan(time_at_error(times, errors, 1e-7)) and math.isnan(time_at_error(times, errors, 1e-1))
+
+
+def test_render_csvs_have_their_columns(render):
+    result, out = render
+    expected = {
+        "render_throughput.csv": ["scene", "light_sampling", "samples_per_s_per_core", "curved_over_flat"],
+        "render_light_connection.csv": ["scene", "estimator", "spp", "cpu_s", "rel_rmse", "mse_times_cpu_s"],
+        "render_light_connection_summary.csv": ["scene", "brute_force_time_for_equal_error", "rmse_ratio_at_equal_time",
+                                                "light_segments_reaching_light"],
+        "render_work_precision.csv": ["scene", "stepper", "tol", "cpu_s", "samples_per_s_per_core", "rel_rmse",
+                                      "rel_mae"],
+        "render_fig07_extrapolation.csv": ["samples_per_s_per_core", "extrapolated_hours_all_cores",
+                                           "extrapolated_core_hours"],
+    }
+    for name, columns in expected.items():
+        table = read_csv(out / name)
+        assert table and set(columns) <= set(table[0]), name
+    assert not (out / "render_mitsuba.csv").exists()
+    tp = result["throughput"]
+    assert {r["scene"] for r in tp} == {"flat", "schwarzschild", "kerr_a0.9", "ellis"}
+    for r in tp:
+        assert r["samples_per_s_per_core"] > 0
+        assert (r["steps_per_sample"] == 0) == (r["scene"] == "flat")  # flat rays are straight lines
+    f7 = result["fig07"][0]
+    assert f7["extrapolated_core_hours"] == pytest.approx(f7["target_samples"] / f7["samples_per_s_per_core"] / 3600)
+
+
+def test_render_error_shrinks_with_tolerance_and_noise_with_spp(render):
+    result, _ = render
+    wp = {r["tol"]: r["rel_rmse"] for r in result["work_precision"] if r["stepper"] == "dopri5"}
+    assert wp[1e-8] < 1e-2 * wp[1e-4]  # same seed and spp: only the geodesics' error is left
+    for scene in ("flat", "schwarzschild"):
+        for est in ("light connection", "brute force"):
+            rmse = {r["spp"]: r["rel_rmse"] for r in result["light_connection"]
+                    if r["scene"] == scene and r["estimator"] == est}  # fmt: skip
+            assert rmse[8] < rmse[2], (scene, est, rmse)
+    flat = next(r for r in result["light_summary"] if r["scene"] == "flat")
+    assert flat["brute_force_time_for_equal_error"] > 3  # the light connection pays off in the flat room
+    assert flat["light_segments_reaching_light"] == 1.0  # nothing stands between the walls and the lamp
+
+
+@pytest.mark.skipif(importlib.util.find_spec("mitsuba") is None, reason="mitsuba is not installed")
+def test_mitsuba_renders_the_same_room(tmp_path):
+    cfg = dict(bench_render.QUICK["mitsuba"], spp=16, min_cpu=0.0)
+    rows = bench_render.mitsuba_comparison(cfg, threads=1)
+    assert [r["renderer"] for r in rows] == ["warpviz", "mitsuba"]
+    wv_row, mi_row = rows
+    # same scene, same estimator family: mean radiance agrees within Monte Carlo noise; neither image is
+    # mirrored (red wall on the left, green on the right)
+    assert mi_row["mean_radiance"] == pytest.approx(wv_row["mean_radiance"], rel=0.1)
+    for r in rows:
+        assert r["left_third_red_minus_green"] > 0.01 and r["right_third_green_minus_red"] > 0.01, r
+        assert r["samples_per_s_per_core"] > 0
+
+
+@pytest.mark.slow
+def test_plots_are_written(tmp_path):
+    pytest.importorskip("matplotlib")
+    bench_work_precision.main(["--quick", "--out", str(tmp_path)])
+    bench_render.main(["--quick", "--no-mitsuba", "--out", str(tmp_path)])
+    for name in ("work_precision.png", "render_throughput.png", "render_light_connection.png",
+                 "render_work_precision.png"):
+        assert (tmp_path / name).stat().st_size > 10_000, name
