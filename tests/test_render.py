@@ -299,3 +299,31 @@ def test_aimed_light_samples_reach_the_light_more_often_and_stay_unbiased():
     plain = _image_means(scene, range(6), spp=8, aim_lights=False, max_depth=3)
     err = math.sqrt(aimed.var(ddof=1) / 6 + plain.var(ddof=1) / 6)
     assert abs(aimed.mean() - plain.mean()) < 4 * err + 1e-3 * plain.mean()
+
+
+def test_colour_shift_blues_the_approaching_side_and_keeps_grey_grey_at_g_1():
+    """With colour_shift each channel is g^3 I(nu / g) of the RGB spectrum: a flat (grey) spectrum just
+    scales by g^3, and a sloped one gets bluer where g > 1 and redder where g < 1."""
+    def disk(color):
+        return {
+            "metric": metric("schwarzschild", 1.0),
+            "camera": {"position": [0, -60, 6], "look_at": [0, 0, 0], "fov": 30, "width": 48, "height": 24},
+            "textures": [{"type": "constant", "color": color}],
+            "materials": [{"type": "emissive", "texture": 0, "two_sided": True, "keplerian": True,
+                           "beaming": True, "colour_shift": True}],
+            "shapes": [{"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1], "inner_radius": 6.0,
+                        "outer_radius": 20.0, "material": 0}],
+            "environment": {"color": [0, 0, 0]},
+        }
+
+    grey = wv.render(disk([1.0, 1.0, 1.0]), spp=1)
+    hit = grey.aovs["status"] == wv.RayStatus.HIT
+    g = grey.aovs["redshift"][hit]
+    np.testing.assert_allclose(grey.rgb[hit], np.repeat(g[:, None] ** 3, 3, axis=1), rtol=1e-5)
+    # an exponential spectrum exp(-a nu) stays exponential: blue / red = exp(-a (nu_B - nu_R) / g)
+    nu = 1.0 / np.array([610.0, 550.0, 465.0])
+    a = 3.0 / (nu[1] - nu[0]) * 0.1789
+    warm = wv.render(disk(np.exp(-a * (nu - nu[0])).tolist()), spp=1)
+    ratio = warm.rgb[hit][:, 2] / warm.rgb[hit][:, 0]  # blue / red
+    np.testing.assert_allclose(ratio, np.exp(-a * (nu[2] - nu[0]) / g), rtol=1e-4)
+    assert ratio[g > 1.05].min() > np.exp(-a * (nu[2] - nu[0])) > ratio[g < 0.95].max()

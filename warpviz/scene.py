@@ -655,7 +655,7 @@ _MATERIAL_KEYS = {
     "diffuse": ("color", "texture"),
     "mirror": ("reflectance",),
     "glass": ("ior", "tint"),
-    "emissive": ("strength", "color", "texture", "two_sided", "keplerian", "beaming"),
+    "emissive": ("strength", "color", "texture", "two_sided", "keplerian", "beaming", "colour_shift"),
 }
 
 
@@ -700,6 +700,7 @@ def _materials(r: _Reader, tbl: Any, tex_list: list, tex_index: dict) -> tuple[l
                 "two_sided": r.boolean(m, mp, "two_sided", False),
                 "keplerian": r.boolean(m, mp, "keplerian", False),
                 "beaming": r.boolean(m, mp, "beaming", False),
+                "colour_shift": r.boolean(m, mp, "colour_shift", False),
             }  # fmt: skip
         index[name] = len(out)
         out.append(mat)

@@ -206,6 +206,7 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
       m.two_sided = t.contains("two_sided") && nb::cast<bool>(t["two_sided"]);
       m.beaming = t.contains("beaming") && nb::cast<bool>(t["beaming"]);
       m.keplerian = t.contains("keplerian") && nb::cast<bool>(t["keplerian"]);
+      m.colour_shift = t.contains("colour_shift") && nb::cast<bool>(t["colour_shift"]);
     } else {
       fail(w + ".type", "unknown material type '" + ty + "' (known: diffuse, mirror, glass, emissive)");
     }

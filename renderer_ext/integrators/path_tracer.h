@@ -318,7 +318,26 @@ class PathTracer {
     const Material& m = sc_.materials[sc_.prims[e.prim].material];
     if (!m.beaming || max_component(L) <= 0.0) return L;
     const double g = shift(e, m);
+    if (m.colour_shift) return shifted_colour(L, g);
     return L * (g * g * g * g);  // I_nu / nu^3 is invariant: bolometric radiance goes as g^4
+  }
+
+  // Radiance seen in each channel when the source's spectrum is shifted by g: I_nu / nu^3 is invariant,
+  // so I_obs(nu) = g^3 I_emit(nu / g). The emitted spectrum is read off the RGB triple as piecewise
+  // exponential in frequency through the channels' frequencies (610, 550, 465 nm), continued beyond them
+  // with the end segments' slopes (a Wien-like tail), so an exponential spectrum shifts exactly.
+  static V3 shifted_colour(V3 L, double g) {
+    if (!(g > 0.0)) return {0, 0, 0};
+    const double nu[3] = {1.0 / 610.0, 1.0 / 550.0, 1.0 / 465.0};
+    const double floor = 1e-6 * std::max(max_component(L), 1e-300);
+    const double lg[3] = {std::log(std::max(L.x, floor)), std::log(std::max(L.y, floor)), std::log(std::max(L.z, floor))};
+    auto spectrum = [&](double f) {
+      const int k = f < nu[1] ? 0 : 1;
+      const double t = std::min(50.0, std::max(-50.0, (f - nu[k]) / (nu[k + 1] - nu[k])));
+      return std::exp(lg[k] * (1.0 - t) + lg[k + 1] * t);
+    };
+    const double g3 = g * g * g;
+    return {g3 * spectrum(nu[0] / g), g3 * spectrum(nu[1] / g), g3 * spectrum(nu[2] / g)};
   }
 
   // g = nu_received / nu_emitted for light from the emitter at a hit to the segment's start observer:

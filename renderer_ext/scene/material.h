@@ -24,6 +24,7 @@ struct Material {
   bool two_sided = false;
   bool beaming = false;    // emission scaled by g^4 (Doppler + gravitational shift of the emitter)
   bool keplerian = false;  // the emitter orbits prograde about +z (accretion disk) instead of being static
+  bool colour_shift = false;  // with beaming: shift the colour too (RGB read as a coarse spectrum)
   bool is_delta() const { return kind == MaterialKind::kMirror || kind == MaterialKind::kGlass; }
 };
 
