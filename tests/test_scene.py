@@ -245,7 +245,7 @@ def test_good_scene_loads(tmp_path):
     check_native(native)
     assert [t["type"] for t in native["textures"]] == ["grid", "constant"]  # the lamp's colour becomes a texture
     assert native["materials"][1] == {"type": "emissive", "texture": 1, "strength": 2.0, "two_sided": False,
-                                      "keplerian": False, "beaming": False}  # fmt: skip
+                                      "keplerian": False, "beaming": False, "colour_shift": False}  # fmt: skip
     assert native["environment"]["stars"] == {"density": 100.0, "brightness": 20.0, "size": 0.002, "seed": 3}
     np.testing.assert_allclose(native["environment"]["spots"][1]["direction"], [2**-0.5, 2**-0.5, 0.0])
 

@@ -149,7 +149,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.max_depth = option<int>(options, "max_depth", 8);
   o.rr_depth = option<int>(options, "rr_depth", 3);
   o.light_sampling = option<bool>(options, "light_sampling", true);
-  o.trace.tol = option<double>(options, "tol", 1e-8);
+  o.trace.tol = option<double>(options, "tol", 1e-7);
   o.trace.max_steps = option<long>(options, "max_steps", 20000);
   o.trace.escape_radius = option<double>(options, "escape_radius", 1e3);
   o.trace.max_drift = option<double>(options, "max_drift", std::max(1e-6, 1e3 * o.trace.tol));

@@ -9,6 +9,7 @@
 
 #include <cmath>
 
+#include "core/root.h"
 #include "core/vec3.h"
 
 namespace wv {
@@ -28,14 +29,12 @@ struct PlaneTarget {
     if (m.chart_to_user(y, ray_sheet, a) != sheet || m.chart_to_user(ynew, ray_sheet, b) != sheet) return false;
     const double fa = dot(V3(a) - centre, normal), fb = dot(V3(b) - centre, normal);
     if ((fa < 0.0) == (fb < 0.0)) return false;
-    double lo = 0.0, hi = 1.0;
-    for (int it = 0; it < 60 && hi - lo > 1e-14; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      st.dense(y, ynew, h, mid, ys);
+    auto f = [&](double t) {
+      st.dense(y, ynew, h, t, ys);
       m.chart_to_user(ys, ray_sheet, q);
-      if ((dot(V3(q) - centre, normal) < 0.0) == (fa < 0.0)) lo = mid; else hi = mid;
-    }
-    theta = hi;
+      return dot(V3(q) - centre, normal);
+    };
+    theta = crossing(f, 0.0, fa, 1.0, fb, 1e-12, 1e-9 * (1.0 + length(centre)));
     prim = -1;
     return true;
   }

@@ -1,12 +1,14 @@
-// Scene surfaces along curved rays: each accepted integration step is cut into chords short enough that
-// the arc deviates from them by at most the chord tolerance; each chord is tested against the scene's
-// BVH, and a chord hit is refined on the step's dense output (bisection of the surface's implicit
-// function along the arc) so the crossing is located to ~1e-12 of the step.
+// Scene surfaces along curved rays. For each accepted integration step, one BVH query finds the
+// primitives near the step (its bounding box grown by the arc's bulge; usually none). Only then is the
+// arc cut into chords short enough that it deviates from them by at most the chord tolerance, each chord
+// tested exactly against those primitives, and a chord hit refined on the step's dense output (a
+// bracketed root of the surface's implicit function along the arc) to ~1e-12 M.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 
+#include "core/root.h"
 #include "scene/scene.h"
 
 namespace wv {
@@ -40,6 +42,24 @@ struct SceneSurfaces {
     const double R = sc.bound_radius;
     const double reach = std::min(std::min(length(p0), length(p1)), length(pm)) - length(p1 - p0) - sag;
     if (reach > R) return false;
+    // Broad phase: one BVH query for the primitives whose boxes meet the step's box, grown by the bulge.
+    Box box;
+    box.extend(p0);
+    box.extend(p1);
+    box.extend(pm);
+    const double pad = 1.5 * sag + 1e-9 * (1.0 + length(p1 - p0));
+    box.lo = box.lo - V3{pad, pad, pad};
+    box.hi = box.hi + V3{pad, pad, pad};
+    constexpr int kMaxCandidates = 32;
+    int cand[kMaxCandidates];
+    int nc = 0;
+    bool overflow = false;
+    sc.bvh.overlapping(box, [&](int p) {
+      if (nc < kMaxCandidates) cand[nc++] = p; else overflow = true;
+    });
+    if (nc == 0) return false;
+    // Narrow phase: the arc cut into chords whose sagitta is at most chord_tol, each tested exactly
+    // against the candidates (or against the whole BVH when there are too many of them).
     const int n = sag <= chord_tol ? 1 : std::min(64, int(std::ceil(std::sqrt(sag / chord_tol))));
     V3 pa = p0;
     int sa = sa0;
@@ -56,14 +76,32 @@ struct SceneSurfaces {
         sb = m.chart_to_user(ys, sheet, q);
         pb = V3(q);
       }
-      if (sa == sb) {
-        const V3 d = pb - pa;
-        const double len = length(d);
-        SegmentHit hit;
-        const double skip_t = (first && k == 0 && len > 0.0) ? skip_dist / len : 0.0;
-        if (len > 0.0 && sc.closest_hit(pa, d, 0.0, 1.0, sa, skip_prim, skip_t, hit)) {
-          if (refine(st, y, ynew, h, sheet, hit.prim, ta, tb, ta + hit.t * (tb - ta), theta)) {
-            prim = hit.prim;
+      const V3 d = pb - pa;
+      const double len = length(d);
+      if (sa == sb && len > 0.0) {
+        const double skip_t = (first && k == 0) ? skip_dist / len : 0.0;
+        // chord hits in this sub-interval, nearest first
+        SegmentHit hits[kMaxCandidates];
+        int nh = 0;
+        if (overflow) {
+          if (sc.closest_hit(pa, d, 0.0, 1.0, sa, skip_prim, skip_t, hits[0])) nh = 1;
+        } else {
+          for (int c = 0; c < nc; ++c) {
+            const int p = cand[c];
+            double t;
+            if (sc.prims[p].sheet != sa || !sc.intersect_prim(p, pa, d, 0.0, 1.0, t)) continue;
+            if (p == skip_prim && t < skip_t) continue;
+            int at = nh++;
+            while (at > 0 && hits[at - 1].t > t) {
+              hits[at] = hits[at - 1];
+              --at;
+            }
+            hits[at] = {p, t};
+          }
+        }
+        for (int c = 0; c < nh; ++c) {
+          if (refine(st, y, ynew, h, sheet, hits[c].prim, ta, tb, ta + hits[c].t * (tb - ta), theta)) {
+            prim = hits[c].prim;
             return true;
           }
         }
@@ -85,46 +123,36 @@ struct SceneSurfaces {
       m.chart_to_user(ys, sheet, q);
       return sc.implicit_at(p, V3(q));
     };
-    // Bracket: scan the arc from ta for the first sign change, probing near the chord estimate first.
-    const double fa = f(ta);
-    double lo = ta, hi = -1.0;
-    const double width = tb - ta;
-    const double probes[] = {tg - 0.02 * width, tg + 0.02 * width, tg + 0.1 * width, tb};
-    double prev_t = ta, prev_f = fa;
-    for (double t : probes) {
-      if (t <= prev_t || t > tb) continue;
-      const double ft = f(t);
-      if ((ft < 0.0) != (prev_f < 0.0)) {
-        lo = prev_t;
-        hi = t;
-        break;
-      }
-      prev_t = t;
-      prev_f = ft;
-    }
-    if (hi < 0.0) {  // chord crossed twice within a probe interval: scan finely
-      const int N = 32;
-      prev_t = ta;
-      prev_f = fa;
-      for (int i = 1; i <= N; ++i) {
-        const double t = ta + width * i / N;
+    // Bracket: scan the arc from ta for the first sign change, probing near the chord estimate first;
+    // if the chord crossed twice within a probe interval, scan finely.
+    const double fa = f(ta), width = tb - ta;
+    double lo = ta, flo = fa, hi = -1.0, fhi = 0.0;
+    auto scan = [&](const double* ts, int n) {
+      double pt = ta, pf = fa;
+      for (int i = 0; i < n; ++i) {
+        const double t = ts[i];
+        if (t <= pt || t > tb) continue;
         const double ft = f(t);
-        if ((ft < 0.0) != (prev_f < 0.0)) {
-          lo = prev_t;
+        if ((ft < 0.0) != (pf < 0.0)) {
+          lo = pt;
+          flo = pf;
           hi = t;
-          break;
+          fhi = ft;
+          return true;
         }
-        prev_t = t;
-        prev_f = ft;
+        pt = t;
+        pf = ft;
       }
-      if (hi < 0.0) return false;  // the arc misses what the chord grazed
+      return false;
+    };
+    const double probes[] = {tg - 0.02 * width, tg + 0.02 * width, tg + 0.1 * width, tb};
+    if (!scan(probes, 4)) {
+      double fine[32];
+      for (int i = 0; i < 32; ++i) fine[i] = ta + width * (i + 1) / 32.0;
+      if (!scan(fine, 32)) return false;  // the arc misses what the chord grazed
     }
-    const bool neg_lo = f(lo) < 0.0;
-    for (int it = 0; it < 60 && hi - lo > 1e-14; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      if ((f(mid) < 0.0) == neg_lo) lo = mid; else hi = mid;
-    }
-    theta = hi;
+    // |f| is a distance (unit-normal planes, |p - c| - R for spheres): stop at 1e-12 M
+    theta = crossing(f, lo, flo, hi, fhi, 1e-14, 1e-12 * (1.0 + length(V3(q))));
     return true;
   }
 };

@@ -6,6 +6,7 @@ namespace wv {
 
 void Bvh::build(const std::vector<Box>& boxes) {
   nodes_.clear();
+  prim_boxes_ = boxes;
   order_.resize(boxes.size());
   root_box_ = Box();
   if (boxes.empty()) return;

@@ -59,6 +59,34 @@ class Bvh {
     return found;
   }
 
+  // Calls visit(prim) for every primitive whose box overlaps box b.
+  template <class Visit>
+  void overlapping(const Box& b, const Visit& visit) const {
+    if (nodes_.empty()) return;
+    int32_t stack[64];
+    int sp = 0;
+    stack[sp++] = 0;
+    while (sp > 0) {
+      const BvhNode& nd = nodes_[stack[--sp]];
+      const Box& a = nd.box;
+      if (a.lo.x > b.hi.x || b.lo.x > a.hi.x || a.lo.y > b.hi.y || b.lo.y > a.hi.y || a.lo.z > b.hi.z ||
+          b.lo.z > a.hi.z)
+        continue;
+      if (nd.count > 0) {
+        for (int32_t k = nd.first; k < nd.first + nd.count; ++k) {
+          const Box& pb = prim_boxes_[order_[k]];
+          if (pb.lo.x > b.hi.x || b.lo.x > pb.hi.x || pb.lo.y > b.hi.y || b.lo.y > pb.hi.y || pb.lo.z > b.hi.z ||
+              b.lo.z > pb.hi.z)
+            continue;
+          visit(order_[k]);
+        }
+      } else if (sp + 2 <= 64) {
+        stack[sp++] = nd.left;
+        stack[sp++] = nd.right;
+      }
+    }
+  }
+
   const Box& bounds() const { return root_box_; }
   bool empty() const { return nodes_.empty(); }
 
@@ -78,6 +106,7 @@ class Bvh {
 
   std::vector<BvhNode> nodes_;
   std::vector<int32_t> order_;
+  std::vector<Box> prim_boxes_;
   Box root_box_;
 };
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/root.h"
 #include "spacetime/frame.h"
 #include "spacetime/metric.h"
 
@@ -331,12 +332,11 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
       const double r_new = m.radius(ynew);
       // Horizon: locate the crossing r = r_h on the dense output so the path ends on the horizon.
       if (r_new < r_h) {
-        double lo = 0.0, hi = 1.0;
-        for (int it = 0; it < 60; ++it) {
-          const double mid = 0.5 * (lo + hi);
-          st.dense(y, ynew, h, mid, ys);
-          if (m.radius(ys) > r_h) lo = mid; else hi = mid;
-        }
+        auto dr = [&](double t) {
+          st.dense(y, ynew, h, t, ys);
+          return m.radius(ys) - r_h;
+        };
+        const double hi = crossing(dr, 0.0, r - r_h, 1.0, r_new - r_h, 1e-14, 1e-13 * std::max(1.0, r_h));
         // The crossing is found on the dense output; the state there comes from a full-order step.
         st.attempt(m, y, hi * h, o.tol, ys);
         monitor(ys, herr_at(ys));
@@ -351,12 +351,12 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
         if (!escaped) {
           double frac = 1.0;
           if (r < o.escape_radius) {
-            double lo = 0.0, hi = 1.0;
-            for (int it = 0; it < 60; ++it) {
-              const double mid = 0.5 * (lo + hi);
-              st.dense(y, ynew, h, mid, ys);
-              if (m.radius(ys) < o.escape_radius) lo = mid; else hi = mid;
-            }
+            const double R = o.escape_radius;
+            auto dr = [&](double t) {
+              st.dense(y, ynew, h, t, ys);
+              return m.radius(ys) - R;
+            };
+            const double hi = crossing(dr, 0.0, r - R, 1.0, r_new - R, 1e-14, 1e-13 * R);
             frac = hi;
             st.attempt(m, y, hi * h, o.tol, ys);  // full-order state at the crossing
             reinit = true;                        // the trial step overwrote the stepper's stages
