@@ -80,3 +80,40 @@ def test_outgoing_rays_from_just_outside_the_horizon_escape(metric, eps):
     assert set(rays.status_names) == {"escaped"}
     np.testing.assert_allclose(rays.final_directions, directions, atol=1e-9)
     assert rays.invariant_drift["H"].max() < 1e-8
+
+
+def test_radial_ray_from_the_ellis_throat_crosses_to_the_other_sheet():
+    """A ray starting on the throat (l = 0) and sent inward goes to the other universe, where it moves
+    radially outward along the same direction from the centre (+x); sent outward it stays on ours."""
+    rays = wv.trace(wv.EllisWormhole(throat=1.0), [1.0, 0, 0], [[-1.0, 0, 0], [1.0, 0, 0]], tol=1e-10)
+    assert rays.status_names.tolist() == ["escaped", "escaped"]
+    assert rays.final_sheets.tolist() == [-1, 1]
+    np.testing.assert_allclose(rays.final_directions, [[1, 0, 0], [1, 0, 0]], atol=1e-12)
+    assert_sane(rays)
+
+
+def test_a_million_steps_on_the_photon_sphere_stay_bounded():
+    """The seed's RK4 with a small fixed step along Schwarzschild's unstable circular photon orbit: a
+    1e6-step path ends on its step budget or leaves the orbit, with finite output and bounded drift."""
+    bh = wv.Schwarzschild(mass=1.0)
+    rays = wv.trace(bh, [3.0, 0, 0], [0, 1.0, 0], stepper="rk4", rk4_step=1e-4, tol=1e-12,
+                    max_steps=1_000_000, max_drift=1e-6)
+    assert rays.status_names[0] in {"max_steps", "escaped", "horizon"}
+    assert rays.n_steps[0] > 500_000
+    assert_sane(rays, drift=1e-6)
+
+
+@pytest.mark.parametrize("spin", [0.999, -0.999])
+def test_render_from_inside_the_ergosphere_is_finite(spin):
+    """A camera inside Kerr's ergosphere has no static observer: it is a ZAMO; the image is finite and
+    shows the horizon below and the sky above."""
+    scene = {
+        "metric": {"name": "kerr", "params": [1.0, spin]},
+        "camera": {"position": [1.6, 0, 0.1], "look_at": [10, 0, 0.1], "up": [0, 0, 1], "fov": 120,
+                   "width": 16, "height": 12},
+        "materials": [], "shapes": [], "environment": {"color": [1, 1, 1]},
+    }
+    img = wv.render(scene, spp=1)
+    assert np.isfinite(img.rgb).all() and img.aovs["errors"].max() == 0
+    status = img.aovs["status"]
+    assert (status == wv.RayStatus.ESCAPED).any() and (status == wv.RayStatus.HORIZON).any()

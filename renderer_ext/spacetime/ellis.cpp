@@ -99,11 +99,15 @@ struct EllisWormhole : MetricBase<EllisWormhole> {
     return s.str();
   }
 
-  void conserved(const double y[8], double out[]) const {
+  void conserved(const double y[8], double out[], double mag[]) const {
     double l[3];
     angular_momentum(y, l);
     out[1] = -y[4];
     out[2] = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+    if (mag) {
+      mag[1] = std::fabs(y[4]);
+      mag[2] = (y[1] * y[1] + y[2] * y[2] + y[3] * y[3]) * (y[5] * y[5] + y[6] * y[6] + y[7] * y[7]);
+    }
   }
   void invariant_scales(const double y[8], const double inv[], double scale[]) const {
     scale[0] = 1.0;

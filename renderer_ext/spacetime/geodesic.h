@@ -180,9 +180,15 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     return;
   } else {
     constexpr int K = M::kNumInvariants;
-    double inv0[K], scale[K], inv[K], drift[K];
+    double inv0[K], scale[K], inv[K], drift[K], mag[K];
     m.invariants(y, inv0);
     m.invariant_scales(y, inv0, scale);
+    // Like H below, each conserved quantity's drift is measured against the largest size of the terms
+    // it is computed from along the ray (at least its scale at the start): where momenta grow large
+    // (backward rays near a horizon) the cancellation in those terms limits what can be conserved.
+    for (int k = 0; k < K; ++k) mag[k] = 0.0;
+    m.conserved(y, inv, mag);
+    for (int k = 1; k < K; ++k) scale[k] = std::max(scale[k], mag[k]);
     for (int k = 0; k < K; ++k) drift[k] = 0.0;
     // H is measured relative to the largest size its terms had along the ray: the rounding and
     // truncation errors committed where the coordinate momenta were large (e.g. an outgoing ray
@@ -228,10 +234,11 @@ void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, Ra
     };
     // Evaluates the conserved quantities at ys and updates the running maxima; false on violation.
     auto monitor = [&](const double* ys, double herr) {
-      m.conserved(ys, inv);
+      m.conserved(ys, inv, mag);
       drift[0] = herr;
       bool ok = true;
       for (int k = 1; k < K; ++k) {
+        scale[k] = std::max(scale[k], mag[k]);
         drift[k] = std::fabs(inv[k] - inv0[k]) / scale[k];
         if (!(drift[k] <= o.max_drift)) ok = false;
       }

@@ -96,7 +96,7 @@ struct Kerr : MetricBase<Kerr> {
   }
   double length_scale() const { return M; }
 
-  void conserved(const double y[8], double out[]) const {
+  void conserved(const double y[8], double out[], double mag[]) const {
     const double x = y[1], yy = y[2], z = y[3], px = y[5], py = y[6], pz = y[7];
     const double r = bl_radius(x, yy, z);
     const double E = -y[4];
@@ -108,8 +108,15 @@ struct Kerr : MetricBase<Kerr> {
     const double ptheta2_lz = c * c * (r * r + a * a) * (px * px + py * py) - 2.0 * r * c * (x * px + yy * py) * pz +
                               r * r * s2 * pz * pz;
     // Carter's constant for any mass mu^2 = -2H (0 on null rays), so it is exactly conserved by the flow.
-    const double mu2 = -2.0 * hamiltonian(*this, y);
+    const HamiltonianParts hp = hamiltonian_parts(*this, y);
+    const double mu2 = -hp.two_h;
     out[3] = ptheta2_lz + a * a * c * c * (mu2 - E * E);
+    if (mag) {
+      mag[1] = std::fabs(E);
+      mag[2] = std::fabs(x * py) + std::fabs(yy * px);
+      mag[3] = c * c * (r * r + a * a) * (px * px + py * py) + std::fabs(2.0 * r * c * (x * px + yy * py) * pz) +
+               r * r * s2 * pz * pz + a * a * c * c * (hp.mag + E * E);
+    }
   }
   void invariant_scales(const double y[8], const double inv[], double scale[]) const {
     scale[0] = 1.0;

@@ -9,8 +9,11 @@
 //   template <class T> void inverse_metric(const T x[4], T gi[4][4]) const;
 //                                                             g^{mu nu}(x); T is double or Dual<4>
 //   double radius(const double x[4]) const;                   areal / Boyer-Lindquist radius
-//   void conserved(const double y[8], double out[]) const;    conserved quantities 1..K-1 at state y
-//                                                             (out[0], H, is filled by invariants())
+//   void conserved(const double y[8], double out[], double mag[]) const;
+//                                                             conserved quantities 1..K-1 at state y
+//                                                             (out[0], H, is filled by invariants()) and,
+//                                                             if mag is not null, the size of the terms
+//                                                             each is computed from (its rounding scale)
 //   void invariant_scales(const double y[8], const double inv[], double scale[]) const;
 //                                                             normalisation of each relative drift
 //
@@ -69,7 +72,7 @@ double hamiltonian(const M& m, const double y[8]) {
 
 // |2H| and the Euclidean size of its terms g^{mu nu} p_mu p_nu (their ratio is 0 for an exact null vector).
 struct HamiltonianParts {
-  double abs2h = 0.0, mag = 0.0;
+  double abs2h = 0.0, mag = 0.0, two_h = 0.0;  // |2H|, sum of |terms|, 2H
   double relative() const { return mag > 0.0 ? abs2h / mag : 0.0; }
 };
 
@@ -84,7 +87,7 @@ HamiltonianParts hamiltonian_parts(const M& m, const double y[8]) {
       s += t;
       mag += std::fabs(t);
     }
-  return {std::fabs(s), mag};
+  return {std::fabs(s), mag, s};
 }
 
 // The same parts from a state and its Hamilton derivative f = rhs(y), at no extra metric evaluation:
@@ -96,7 +99,7 @@ inline HamiltonianParts hamiltonian_parts_from_rhs(const double y[8], const doub
     s += t;
     mag += std::fabs(t);
   }
-  return {std::fabs(s), mag};
+  return {std::fabs(s), mag, s};
 }
 
 // Angular momentum L = x cross p (the rotation Killing fields contracted with p), Cartesian charts.
@@ -128,7 +131,7 @@ struct MetricBase {
   // All invariants: out[0] = H, then the metric's conserved quantities.
   void invariants(const double y[8], double out[]) const {
     out[0] = hamiltonian(self(), y);
-    self().conserved(y, out);
+    self().conserved(y, out, nullptr);
   }
 
   // Outer horizon radius (0 if none); a ray whose radius drops below it is absorbed.
