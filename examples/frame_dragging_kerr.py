@@ -25,20 +25,10 @@ from pathlib import Path
 import numpy as np
 
 import warpviz as wv
+from _args import parse_size
 
 SPIN = 0.9
 START = 40.0  # the fan starts at x = -START, far enough for y to be the impact parameter to ~3 %
-
-
-def parse_size(text: str) -> tuple[int, int]:
-    """``"WxH"`` to (W, H)."""
-    try:
-        width, height = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT, e.g. 128x64, got {text!r}") from None
-    if width < 2 or height < 2:
-        raise argparse.ArgumentTypeError(f"the image must be at least 2x2 pixels, got {text!r}")
-    return width, height
 
 
 def equatorial_critical_b(metric) -> tuple[float, float]:

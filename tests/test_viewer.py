@@ -459,7 +459,12 @@ def test_twenty_views_leak_no_vtk_objects(img):
 
 
 def run_example(name, out, *args):
-    namespace = runpy.run_path(str(EXAMPLES / f"{name}.py"))
+    # as `python examples/<name>.py` would, put the examples folder (its _args helper) on the path
+    sys.path.insert(0, str(EXAMPLES))
+    try:
+        namespace = runpy.run_path(str(EXAMPLES / f"{name}.py"))
+    finally:
+        sys.path.remove(str(EXAMPLES))
     namespace["main"](["--size", "24x12", "--spp", "1", "--out", str(out), *args])
 
 
