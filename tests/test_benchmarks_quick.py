@@ -158,3 +158,14 @@ def test_plots_are_written(tmp_path):
     for name in ("work_precision.png", "render_throughput.png", "render_light_connection.png",
                  "render_work_precision.png"):
         assert (tmp_path / name).stat().st_size > 10_000, name
+
+
+def test_skips_benchmark_reports_every_shortcut(tmp_path):
+    import bench_skips
+
+    assert bench_skips.main(["--quick", "--out", str(tmp_path)]) == 0
+    rows = read_csv(tmp_path / "skips.csv")
+    assert [r["shortcut"].split()[0] for r in rows] == ["flat", "no", "no", "far-field"]
+    for r in rows:
+        assert float(r["cpu_s_without"]) > 0 and float(r["cpu_s_with"]) > 0
+        assert math.isclose(float(r["speedup"]), float(r["cpu_s_without"]) / float(r["cpu_s_with"]), rel_tol=1e-4)

@@ -21,33 +21,41 @@ struct ObserverFrame {
   double e[3][4];  // spatial triad e_j^mu, j = x, y, z
 };
 
+// The observer's 4-velocity u^mu (and the covariant metric g_{mu nu}) at x; false where no static
+// observer or ZAMO exists (inside a horizon) or the metric is singular.
+template <class M>
+bool observer_velocity(const M& m, const double x[4], double g[4][4], double u[4]) {
+  double gi[4][4];
+  m.inverse_metric(x, gi);
+  if (!invert4(gi, g)) return false;
+  if (g[0][0] < 0.0) {
+    u[0] = 1.0 / std::sqrt(-g[0][0]);
+    u[1] = u[2] = u[3] = 0.0;
+    return true;
+  }
+  const double xi[4] = {0.0, -x[2], x[1], 0.0};  // rotation about z
+  double gtp = 0.0, gpp = 0.0;
+  for (int i = 1; i < 4; ++i) {
+    gtp += g[0][i] * xi[i];
+    for (int j = 1; j < 4; ++j) gpp += g[i][j] * xi[i] * xi[j];
+  }
+  if (!(gpp > 0.0)) return false;
+  const double om = -gtp / gpp;
+  const double v[4] = {1.0, om * xi[1], om * xi[2], 0.0};
+  double n2 = 0.0;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) n2 += g[a][b] * v[a] * v[b];
+  if (!(n2 < 0.0)) return false;
+  const double s = 1.0 / std::sqrt(-n2);
+  for (int a = 0; a < 4; ++a) u[a] = v[a] * s;
+  return true;
+}
+
 // Returns false where no static observer or ZAMO exists (inside a horizon) or the metric is singular.
 template <class M>
 bool observer_frame(const M& m, const double x[4], ObserverFrame& f) {
-  double gi[4][4];
-  m.inverse_metric(x, gi);
-  if (!invert4(gi, f.g)) return false;
+  if (!observer_velocity(m, x, f.g, f.u)) return false;
   const auto& g = f.g;
-  if (g[0][0] < 0.0) {
-    f.u[0] = 1.0 / std::sqrt(-g[0][0]);
-    f.u[1] = f.u[2] = f.u[3] = 0.0;
-  } else {
-    const double xi[4] = {0.0, -x[2], x[1], 0.0};  // rotation about z
-    double gtp = 0.0, gpp = 0.0;
-    for (int i = 1; i < 4; ++i) {
-      gtp += g[0][i] * xi[i];
-      for (int j = 1; j < 4; ++j) gpp += g[i][j] * xi[i] * xi[j];
-    }
-    if (!(gpp > 0.0)) return false;
-    const double om = -gtp / gpp;
-    const double v[4] = {1.0, om * xi[1], om * xi[2], 0.0};
-    double n2 = 0.0;
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b) n2 += g[a][b] * v[a] * v[b];
-    if (!(n2 < 0.0)) return false;
-    const double s = 1.0 / std::sqrt(-n2);
-    for (int a = 0; a < 4; ++a) f.u[a] = v[a] * s;
-  }
   double ul[4];  // u lowered: g(d_mu, u)
   for (int a = 0; a < 4; ++a) {
     ul[a] = 0.0;
@@ -74,10 +82,10 @@ bool observer_frame(const M& m, const double x[4], ObserverFrame& f) {
 // 0 where no such observer exists (on or inside a horizon).
 template <class M>
 double local_energy(const M& m, const double y[8]) {
-  ObserverFrame f;
-  if (!observer_frame(m, y, f)) return 0.0;
+  double g[4][4], u[4];
+  if (!observer_velocity(m, y, g, u)) return 0.0;
   double e = 0.0;
-  for (int mu = 0; mu < 4; ++mu) e += y[4 + mu] * f.u[mu];
+  for (int mu = 0; mu < 4; ++mu) e += y[4 + mu] * u[mu];
   return std::fabs(e);
 }
 
