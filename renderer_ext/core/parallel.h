@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <exception>
 #include <functional>
@@ -21,7 +22,8 @@ inline int resolve_threads(int requested) {
 }
 
 // Runs body(i) for i in [0, n) on `threads` workers in chunks. While they run, the calling thread calls
-// poll() every ~50 ms; poll returning false cancels the remaining chunks (e.g. Ctrl-C in Python).
+// poll() every ~20 ms and returns as soon as they finish; poll returning false cancels the remaining
+// chunks (e.g. Ctrl-C in Python).
 // Returns false if cancelled. Exceptions from body are rethrown on the calling thread.
 inline bool parallel_for(std::size_t n, int threads, std::size_t chunk, const std::function<void(std::size_t)>& body,
                          const std::function<bool()>& poll = {}) {
@@ -31,6 +33,8 @@ inline bool parallel_for(std::size_t n, int threads, std::size_t chunk, const st
   std::atomic<int> running{threads};
   std::exception_ptr error;
   std::mutex error_mutex;
+  std::mutex done_mutex;
+  std::condition_variable done;
   auto worker = [&]() {
     try {
       while (!cancel.load(std::memory_order_relaxed)) {
@@ -44,15 +48,23 @@ inline bool parallel_for(std::size_t n, int threads, std::size_t chunk, const st
       if (!error) error = std::current_exception();
       cancel = true;
     }
-    running.fetch_sub(1);
+    {
+      std::lock_guard<std::mutex> lock(done_mutex);
+      running.fetch_sub(1);
+    }
+    done.notify_all();
   };
   std::vector<std::thread> pool;
   if (!poll && threads == 1) {
     worker();
   } else {
     for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
-    while (poll && running.load() > 0) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    // Poll every 20 ms, but return as soon as the workers are done (no sleep floor on short calls).
+    while (poll) {
+      {
+        std::unique_lock<std::mutex> lock(done_mutex);
+        if (done.wait_for(lock, std::chrono::milliseconds(20), [&] { return running.load() == 0; })) break;
+      }
       if (!cancel.load() && !poll()) cancel = true;
     }
     for (auto& th : pool) th.join();
