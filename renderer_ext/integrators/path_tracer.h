@@ -369,7 +369,9 @@ class PathTracer {
   static constexpr int kAimedLights = 8;
   static constexpr int kPilots = 2;
   struct Aim {
-    V3 from[kAimedLights];
+    V3 pos;                   // the vertex
+    V3 from[kAimedLights];    // where light i's proxy is seen from (lights past kAimedLights: pos)
+    V3 at(size_t i) const { return i < size_t(kAimedLights) ? from[i] : pos; }
   };
 
   // Centre and plane normal of light prim p as aimed at from x.
@@ -392,6 +394,7 @@ class PathTracer {
   // Pilot geodesics from vertex e towards each light (curved space only).
   Aim aim(const SegmentEnd& e, V3 n_user, V3 wo, Stats& st) const {
     Aim a;
+    a.pos = e.pos;
     for (int i = 0; i < kAimedLights; ++i) a.from[i] = e.pos;
     if constexpr (M::kFlat) {
       (void)n_user;
@@ -450,7 +453,7 @@ class PathTracer {
     double s = 0.0;
     for (size_t i = 0; i < sc_.lights.size(); ++i) {
       const int l = sc_.lights[i];
-      if (sc_.prims[l].sheet == sheet) s += light_pdf(sc_, l, a.from[std::min<size_t>(i, kAimedLights - 1)], L, w);
+      if (sc_.prims[l].sheet == sheet) s += light_pdf(sc_, l, a.at(i), L, w);
     }
     return s / double(sc_.lights.size());
   }
@@ -530,7 +533,7 @@ class PathTracer {
         V3 wl;
         double pl_one;
         const int lp = sc_.lights[li];
-        const V3 from = aimed.from[std::min(li, kAimedLights - 1)];
+        const V3 from = aimed.at(size_t(li));
         if (sc_.prims[lp].sheet == e.sheet && sample_light(sc_, lp, from, e.to_local, u1, u2, wl, pl_one)) {
           double pb;
           const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
