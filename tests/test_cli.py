@@ -279,6 +279,13 @@ def test_bench_runs_the_benchmark_script(tmp_path):
     assert invoke("bench", "--no-such-option").exit_code == 2
 
 
+def test_bench_runs_a_named_suite(tmp_path):
+    result = invoke("bench", "skips", "--quick", "--out", tmp_path)
+    assert result.exit_code == 0, result.output
+    with (tmp_path / "skips.csv").open() as f:
+        assert len(list(csv.DictReader(f))) == 4
+
+
 def test_console_script_is_declared():
     import tomllib
 

@@ -437,24 +437,43 @@ def doctor(
         out.print(table)
 
 
+#: ``warpviz bench SUITE``: the benchmark scripts of the repository's benchmarks/ folder.
+BENCH_SUITES = {
+    "geodesics": "bench_geodesics.py",
+    "work-precision": "bench_work_precision.py",
+    "render": "bench_render.py",
+    "skips": "bench_skips.py",
+}
+
+
 @app.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
 def bench(ctx: typer.Context) -> None:
-    """Run the geodesic benchmark (benchmarks/bench_geodesics.py); its options follow: `warpviz bench --size 32`."""
+    """Run a benchmark: `warpviz bench SUITE OPTIONS`, SUITE one of geodesics, work-precision, render, skips.
+
+    Without a SUITE it runs the far-observer geodesic benchmark (benchmarks/bench_geodesics.py); every
+    suite takes its own options after the name, e.g. `warpviz bench --size 32` or
+    `warpviz bench render --quick`.
+    """
     with _guard():
-        script = Path(__file__).resolve().parent.parent / "benchmarks" / "bench_geodesics.py"
+        args = list(ctx.args)
+        suite = args.pop(0) if args and args[0] in BENCH_SUITES else "geodesics"
+        folder = Path(__file__).resolve().parent.parent / "benchmarks"
+        script = folder / BENCH_SUITES[suite]
         if not script.is_file():
             _fail(f"benchmark script not found: {script} (it ships with the repository, not the package)")
-        spec = importlib.util.spec_from_file_location("warpviz_bench_geodesics", script)
+        sys.path.insert(0, str(folder))  # the scripts share benchmarks/_common.py and _scenes.py
+        spec = importlib.util.spec_from_file_location(f"warpviz_bench_{suite.replace('-', '_')}", script)
         module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        saved_prog, sys.argv[0] = sys.argv[0], "warpviz bench"  # argparse names the program after argv[0]
+        saved_prog, sys.argv[0] = sys.argv[0], f"warpviz bench {suite}"  # argparse names the program after argv[0]
         try:
-            module.main(list(ctx.args))
+            spec.loader.exec_module(module)
+            module.main(args)
         except SystemExit as exc:  # argparse: --help (0) or bad options (2)
             code = exc.code if isinstance(exc.code, int) else EXIT_BAD_INPUT
             raise typer.Exit(code) from None
         finally:
             sys.argv[0] = saved_prog
+            sys.path.remove(str(folder))
 
 
 def main() -> None:
