@@ -86,6 +86,17 @@ void image_into(nb::handle h, const std::string& where, Texture& t) {
   t.rgb.assign(a.data(), a.data() + a.size());
 }
 
+// The shape's "meridian" (default +x) made perpendicular to unit axis n; any perpendicular if parallel.
+V3 meridian_axis(const nb::dict& t, const std::string& where, V3 n) {
+  V3 mer = vec3(t, "meridian", where, {1, 0, 0});
+  mer = mer - n * dot(mer, n);
+  if (!(length(mer) > 1e-9)) {
+    V3 b;
+    basis_around(n, mer, b);
+  }
+  return normalize(mer);
+}
+
 std::string type_of(const nb::dict& d, const std::string& where) {
   nb::handle h = get(d, "type", where);
   std::string s;
@@ -230,10 +241,7 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
       s.radius = number(t, "radius", w, NAN, true);
       if (!(s.radius > 0)) fail(w + ".radius", "must be > 0");
       s.pole = normalize(vec3(t, "pole", w, {0, 0, 1}));
-      V3 mer = vec3(t, "meridian", w, {1, 0, 0});
-      mer = mer - s.pole * dot(mer, s.pole);
-      if (!(length(mer) > 1e-9)) { V3 b; basis_around(s.pole, mer, b); }
-      s.meridian = normalize(mer);
+      s.meridian = meridian_axis(t, w, s.pole);
       s.third = cross(s.pole, s.meridian);
       pr.kind = PrimKind::kSphere;
       pr.index = int32_t(sc.spheres.size());
@@ -260,10 +268,7 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
       k.r_in = number(t, "inner_radius", w, 0.0);
       k.r_out = number(t, "outer_radius", w, NAN, true);
       if (!(k.r_in >= 0 && k.r_out > k.r_in)) fail(w, "needs 0 <= inner_radius < outer_radius");
-      V3 mer = vec3(t, "meridian", w, {1, 0, 0});
-      mer = mer - k.normal * dot(mer, k.normal);
-      if (!(length(mer) > 1e-9)) { V3 b; basis_around(k.normal, mer, b); }
-      k.axis_u = normalize(mer);
+      k.axis_u = meridian_axis(t, w, k.normal);
       k.axis_v = cross(k.normal, k.axis_u);
       pr.kind = PrimKind::kDisk;
       pr.index = int32_t(sc.disks.size());

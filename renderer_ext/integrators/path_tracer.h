@@ -229,6 +229,17 @@ class PathTracer {
       }
   }
 
+  // State of a ray traced backwards from user-frame point x along local direction d: the future-directed
+  // momentum of light arriving there along d, negated. False on or inside a horizon.
+  bool backward_state(V3 x, int sheet, V3 d, double y[8]) const {
+    ObserverFrame f;
+    if (!m_.user_to_chart(&x.x, sheet, y) || m_.absorbed(y) || !observer_frame(m_, y, f)) return false;
+    double p[4], minus_d[3] = {-d.x, -d.y, -d.z};
+    frame_to_momentum(f, minus_d, p);
+    for (int i = 0; i < 4; ++i) y[4 + i] = -p[i];
+    return true;
+  }
+
   // Traces one geodesic segment from user-frame point x on `sheet` along local direction d.
   SegmentEnd segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st) const {
     SegmentEnd e;
@@ -252,18 +263,11 @@ class PathTracer {
       ++st.counts[e.status];
       return e;
     } else {
-      double x4[4], y[8];
-      ObserverFrame f;
-      if (!m_.user_to_chart(&x.x, sheet, x4) || m_.absorbed(x4) || !observer_frame(m_, x4, f)) {
+      double y[8];
+      if (!backward_state(x, sheet, d, y)) {
         e.status = kHorizon;  // started on or inside the horizon (a surface grazing it)
         ++st.counts[e.status];
         return e;
-      }
-      double p[4], minus_d[3] = {-d.x, -d.y, -d.z};
-      frame_to_momentum(f, minus_d, p);  // future-directed momentum of the light arriving along d ...
-      for (int i = 0; i < 4; ++i) {
-        y[i] = x4[i];
-        y[4 + i] = -p[i];  // ... traced backwards
       }
       SceneSurfaces<M> surf(m_, sc_, o_.chord_tol, skip, skip_dist);
       RayResult res;
@@ -429,15 +433,8 @@ class PathTracer {
 
   // Traces a pilot from x along local direction d to the plane (c, nrm); false if it never gets there.
   bool pilot(V3 x, int sheet, V3 d, V3 c, V3 nrm, V3& hit, Stats& st) const {
-    double x4[4], y[8];
-    ObserverFrame f;
-    if (!m_.user_to_chart(&x.x, sheet, x4) || m_.absorbed(x4) || !observer_frame(m_, x4, f)) return false;
-    double p[4], minus_d[3] = {-d.x, -d.y, -d.z};
-    frame_to_momentum(f, minus_d, p);
-    for (int i = 0; i < 4; ++i) {
-      y[i] = x4[i];
-      y[4 + i] = -p[i];
-    }
+    double y[8];
+    if (!backward_state(x, sheet, d, y)) return false;
     PlaneTarget<M> target{m_, c, nrm, sheet};
     RayResult res;
     integrate_ray<M, S, PlaneTarget<M>>(m_, y, sheet, topt_, res, nullptr, &target);

@@ -42,6 +42,70 @@ inline bool plane_solve(V3 o, V3 a, V3 b, V3 w, double& s, double& r, double& ta
   return true;
 }
 
+// The cone a sphere light subtends from x, around its centre's direction in the local frame.
+struct ConeProxy {
+  bool valid = false;  // false: x lies inside the sphere
+  V3 axis;
+  double omc = 0.0;  // 1 - cos(half angle)
+  double pdf() const { return 1.0 / (kTwoPi * omc); }
+};
+
+inline ConeProxy cone_proxy(const Sphere& s, V3 x, const LinearMap& L) {
+  ConeProxy c;
+  const V3 dc = s.center - x;
+  const double D2 = dot(dc, dc);
+  if (D2 <= s.radius * s.radius) return c;
+  c.valid = true;
+  c.axis = normalize(L(dc));
+  c.omc = one_minus_cos(s.radius * s.radius / D2);
+  return c;
+}
+
+// A quad or disk light as seen from x in the local frame: its points are o + s la + r lb with (s, r) in
+// [0, 1]^2 (quad) or in the annulus r_in <= |(s, r)| <= r_out (disk, la and lb the images of its axes).
+struct PlanarProxy {
+  V3 o, la, lb;
+  bool disk = false;
+  double r_in = 0.0, r_out = 0.0;
+  double area = 0.0;  // area of the image of the light under L
+  V3 normal;          // unit normal of that image
+
+  bool contains(double s, double r) const {
+    if (!disk) return s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0;
+    const double rho2 = s * s + r * r;
+    return rho2 >= r_in * r_in && rho2 <= r_out * r_out;
+  }
+  // Solid-angle pdf of uniform area sampling for direction w reaching the image at distance^2 d2.
+  double pdf(V3 w, double d2) const {
+    const double c = std::fabs(dot(w, normal));
+    if (!(c > 1e-9) || !(area > 0.0)) return 0.0;
+    return d2 / (area * c);
+  }
+};
+
+inline PlanarProxy planar_proxy(const Scene& sc, const Prim& pr, V3 x, const LinearMap& L) {
+  PlanarProxy q;
+  if (pr.kind == PrimKind::kQuad) {
+    const Quad& qd = sc.quads[pr.index];
+    q.o = L(qd.corner - x);
+    q.la = L(qd.eu);
+    q.lb = L(qd.ev);
+  } else {
+    const Disk& k = sc.disks[pr.index];
+    q.o = L(k.center - x);
+    q.la = L(k.axis_u);
+    q.lb = L(k.axis_v);
+    q.disk = true;
+    q.r_in = k.r_in;
+    q.r_out = k.r_out;
+  }
+  const V3 n = cross(q.la, q.lb);
+  const double len = length(n);
+  q.normal = len > 0.0 ? n / len : V3{0, 0, 0};
+  q.area = q.disk ? M_PI * (q.r_out * q.r_out - q.r_in * q.r_in) * len : len;
+  return q;
+}
+
 }  // namespace detail
 
 // Samples a local direction towards light prim p from user-frame point x. Returns false on failure.
@@ -49,86 +113,44 @@ inline bool sample_light(const Scene& sc, int p, V3 x, const LinearMap& L, doubl
                          double& pdf) {
   const Prim& pr = sc.prims[p];
   if (pr.kind == PrimKind::kSphere) {
-    const Sphere& s = sc.spheres[pr.index];
-    const V3 dc = s.center - x;
-    const double D2 = dot(dc, dc);
-    if (D2 <= s.radius * s.radius) return false;
-    const V3 axis = normalize(L(dc));
-    const double sin2 = s.radius * s.radius / D2;
-    const double omc = detail::one_minus_cos(sin2);  // 1 - cos(theta_max)
-    const double om = u1 * omc, cos_t = 1.0 - om, sin_t = std::sqrt(std::max(0.0, om * (2.0 - om)));
+    const detail::ConeProxy c = detail::cone_proxy(sc.spheres[pr.index], x, L);
+    if (!c.valid) return false;
+    const double om = u1 * c.omc, cos_t = 1.0 - om, sin_t = std::sqrt(std::max(0.0, om * (2.0 - om)));
     const double phi = kTwoPi * u2;
     V3 t, b;
-    basis_around(axis, t, b);
-    w = axis * cos_t + t * (sin_t * std::cos(phi)) + b * (sin_t * std::sin(phi));
-    pdf = 1.0 / (kTwoPi * omc);
+    basis_around(c.axis, t, b);
+    w = c.axis * cos_t + t * (sin_t * std::cos(phi)) + b * (sin_t * std::sin(phi));
+    pdf = c.pdf();
     return true;
   }
-  V3 q, la, lb;
-  double area;
-  if (pr.kind == PrimKind::kQuad) {
-    const Quad& qd = sc.quads[pr.index];
-    q = L(qd.corner + qd.eu * u1 + qd.ev * u2 - x);
-    la = L(qd.eu);
-    lb = L(qd.ev);
-    area = length(cross(la, lb));
-  } else {  // disk
-    const Disk& k = sc.disks[pr.index];
-    const double rho = std::sqrt(k.r_in * k.r_in + u1 * (k.r_out * k.r_out - k.r_in * k.r_in));
+  const detail::PlanarProxy q = detail::planar_proxy(sc, pr, x, L);
+  double s = u1, r = u2;  // quad: uniform in [0, 1]^2; disk: uniform by area in the annulus
+  if (q.disk) {
+    const double rho = std::sqrt(q.r_in * q.r_in + u1 * (q.r_out * q.r_out - q.r_in * q.r_in));
     const double phi = kTwoPi * u2;
-    q = L(k.center + k.axis_u * (rho * std::cos(phi)) + k.axis_v * (rho * std::sin(phi)) - x);
-    la = L(k.axis_u);
-    lb = L(k.axis_v);
-    area = M_PI * (k.r_out * k.r_out - k.r_in * k.r_in) * length(cross(la, lb));
+    s = rho * std::cos(phi);
+    r = rho * std::sin(phi);
   }
-  const double d2 = dot(q, q);
+  const V3 v = q.o + q.la * s + q.lb * r;
+  const double d2 = dot(v, v);
   if (!(d2 > 0.0)) return false;
-  w = q / std::sqrt(d2);
-  const double c = std::fabs(dot(w, normalize(cross(la, lb))));
-  if (!(c > 1e-9) || !(area > 0.0)) return false;
-  pdf = d2 / (area * c);
-  return std::isfinite(pdf);
+  w = v / std::sqrt(d2);
+  pdf = q.pdf(w, d2);
+  return pdf > 0.0 && std::isfinite(pdf);
 }
 
 // Solid-angle pdf with which sample_light(p, x, L) produces local direction w.
 inline double light_pdf(const Scene& sc, int p, V3 x, const LinearMap& L, V3 w) {
   const Prim& pr = sc.prims[p];
   if (pr.kind == PrimKind::kSphere) {
-    const Sphere& s = sc.spheres[pr.index];
-    const V3 dc = s.center - x;
-    const double D2 = dot(dc, dc);
-    if (D2 <= s.radius * s.radius) return 0.0;
-    const double sin2 = s.radius * s.radius / D2;
-    const double omc = detail::one_minus_cos(sin2);
-    if (1.0 - dot(w, normalize(L(dc))) > omc) return 0.0;
-    return 1.0 / (kTwoPi * omc);
+    const detail::ConeProxy c = detail::cone_proxy(sc.spheres[pr.index], x, L);
+    if (!c.valid || 1.0 - dot(w, c.axis) > c.omc) return 0.0;
+    return c.pdf();
   }
-  V3 o, la, lb;
-  double area_scale;
+  const detail::PlanarProxy q = detail::planar_proxy(sc, pr, x, L);
   double s, r, tau;
-  if (pr.kind == PrimKind::kQuad) {
-    const Quad& qd = sc.quads[pr.index];
-    o = L(qd.corner - x);
-    la = L(qd.eu);
-    lb = L(qd.ev);
-    if (!detail::plane_solve(o, la, lb, w, s, r, tau)) return 0.0;
-    if (tau <= 0.0 || s < 0.0 || s > 1.0 || r < 0.0 || r > 1.0) return 0.0;
-    area_scale = 1.0;
-  } else {
-    const Disk& k = sc.disks[pr.index];
-    o = L(k.center - x);
-    la = L(k.axis_u);
-    lb = L(k.axis_v);
-    if (!detail::plane_solve(o, la, lb, w, s, r, tau)) return 0.0;
-    const double rho2 = s * s + r * r;
-    if (tau <= 0.0 || rho2 < k.r_in * k.r_in || rho2 > k.r_out * k.r_out) return 0.0;
-    area_scale = M_PI * (k.r_out * k.r_out - k.r_in * k.r_in);
-  }
-  const V3 nrm = cross(la, lb);
-  const double area = area_scale * length(nrm);
-  const double c = std::fabs(dot(w, normalize(nrm)));
-  if (!(c > 1e-9) || !(area > 0.0)) return 0.0;
-  return tau * tau / (area * c);
+  if (!detail::plane_solve(q.o, q.la, q.lb, w, s, r, tau) || tau <= 0.0 || !q.contains(s, r)) return 0.0;
+  return q.pdf(w, tau * tau);
 }
 
 }  // namespace wv

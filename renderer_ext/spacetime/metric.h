@@ -73,7 +73,6 @@ double hamiltonian(const M& m, const double y[8]) {
 // |2H| and the Euclidean size of its terms g^{mu nu} p_mu p_nu (their ratio is 0 for an exact null vector).
 struct HamiltonianParts {
   double abs2h = 0.0, mag = 0.0, two_h = 0.0;  // |2H|, sum of |terms|, 2H
-  double relative() const { return mag > 0.0 ? abs2h / mag : 0.0; }
 };
 
 template <class M>
