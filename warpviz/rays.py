@@ -32,6 +32,28 @@ class RayStatus(enum.IntEnum):
 _CELL_ARRAYS = ("ray_id", "status", "n_steps")
 
 
+def recorded_point_data(columns: np.ndarray, names) -> dict[str, np.ndarray]:
+    """Per-point arrays of recorded paths from the core's (C, P) column block.
+
+    Parameters
+    ----------
+    columns : numpy.ndarray
+        (C, P) float64, one row per name.
+    names : sequence of str
+        The C column names (``affine_param``, ..., ``<invariant>_drift``, ``redshift``, ``sheet``).
+
+    Returns
+    -------
+    dict[str, numpy.ndarray]
+        Each column as a (P,) array (``sheet`` as int8) plus ``log10_error``, the log10 of the largest of
+        ``hamiltonian_err`` and the drifts at each point.
+    """
+    point_data = {name: columns[i].astype(np.int8) if name == "sheet" else columns[i] for i, name in enumerate(names)}
+    errors = [point_data["hamiltonian_err"]] + [point_data[n] for n in names if n.endswith("_drift")]
+    point_data["log10_error"] = np.log10(np.maximum(np.max(np.stack(errors), axis=0), 1e-300))
+    return point_data
+
+
 @dataclass(frozen=True, eq=False)
 class RayBundle:
     """N traced rays.

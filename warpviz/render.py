@@ -34,7 +34,7 @@ import numpy as np
 from warpviz._native import core
 from warpviz.image import Image
 from warpviz.metrics import metric_from_dict
-from warpviz.rays import RayBundle
+from warpviz.rays import RayBundle, recorded_point_data
 
 __all__ = ["render", "DEFAULT_OPTIONS"]
 
@@ -224,22 +224,17 @@ def _bundle(raw: dict, metric, options: dict) -> RayBundle:
     points = np.asarray(raw["points"])
     cols = np.asarray(raw["columns"])
     names = list(raw["column_names"])
-    point_data = {name: cols[k] for k, name in enumerate(names) if name != "sheet"}
-    point_data["sheet"] = cols[names.index("sheet")].astype(np.int8)
-    errors = [point_data["hamiltonian_err"]] + [point_data[n] for n in names if n.endswith("_drift")]
-    point_data["log10_error"] = np.log10(np.maximum(np.max(np.stack(errors), axis=0), 1e-300)) if len(points) else np.zeros(0)
+    point_data = recorded_point_data(cols, names)
     n = len(offsets) - 1
     status = np.asarray(raw["status"]).astype(np.int8)
     last = np.maximum(offsets[1:] - 1, 0)
     final_positions = points[last] if len(points) else np.zeros((n, 3))
-    drift = {"H": np.zeros(n)}
-    for name in names:
-        if name.endswith("_drift"):
-            vals = point_data[name]
-            drift[name[: -len("_drift")]] = np.array(
-                [vals[offsets[i]:offsets[i + 1]].max(initial=0.0) for i in range(n)]
-            )
-    drift["H"] = np.array([point_data["hamiltonian_err"][offsets[i]:offsets[i + 1]].max(initial=0.0) for i in range(n)])
+
+    def per_ray_max(values):
+        return np.array([values[offsets[i]:offsets[i + 1]].max(initial=0.0) for i in range(n)])
+
+    drift = {"H": per_ray_max(point_data["hamiltonian_err"])}
+    drift.update({name[: -len("_drift")]: per_ray_max(point_data[name]) for name in names if name.endswith("_drift")})
     seg = np.diff(points, axis=0) if len(points) > 1 else np.zeros((0, 3))
     final_dirs = np.zeros((n, 3))
     for i in range(n):

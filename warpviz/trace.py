@@ -9,7 +9,7 @@ import numpy as np
 
 from warpviz._native import core
 from warpviz.metrics import EllisWormhole, Metric, metric_from_dict
-from warpviz.rays import RayBundle
+from warpviz.rays import RayBundle, recorded_point_data
 
 STEPPERS = ("rk4", "dopri5", "dop853")
 
@@ -169,10 +169,7 @@ def trace(
     point_data: dict[str, np.ndarray] = {}
     if record:
         points, offsets, cols = raw["points"], raw["offsets"], raw["columns"]
-        for i, name in enumerate(raw["column_names"]):
-            point_data[name] = cols[i].astype(np.int8) if name == "sheet" else cols[i]
-        errors = np.vstack([point_data["hamiltonian_err"]] + [point_data[f"{k}_drift"] for k in list(drift)[1:]])
-        point_data["log10_error"] = np.log10(np.maximum(errors.max(axis=0), 1e-300))
+        point_data = recorded_point_data(cols, raw["column_names"])
     return RayBundle(
         metric=metric,
         stepper=stepper,
