@@ -74,6 +74,7 @@ struct SegmentEnd {
   int sheet = 1;
   V3 dir;          // escaped: direction on the sky; hit: local-frame direction of travel at the hit
   double energy = 1.0;  // local energy at the end relative to the camera's (1 / redshift factor)
+  SurfacePoint surface;  // hit: user-frame normal and texture coordinates
   V3 normal_local;      // hit: unit normal in the local frame
   LinearMap to_local;   // hit: user-frame displacement -> local frame
   long steps = 0;
@@ -253,7 +254,8 @@ class PathTracer {
         e.prim = hit.prim;
         e.pos = x + d * hit.t;
         e.dir = d;
-        e.normal_local = sc_.surface(hit.prim, e.pos).normal;
+        e.surface = sc_.surface(hit.prim, e.pos);
+        e.normal_local = e.surface.normal;
       } else {
         e.status = kEscaped;
         e.dir = d;
@@ -284,18 +286,17 @@ class PathTracer {
         e.dir = V3(res.dir);
         e.energy = res.y[4];  // p_t of the backward ray = energy measured at rest at infinity
       } else if (e.status == kHit) {
-        ObserverFrame fh;
-        if (!observer_frame(m_, res.y, fh)) {
+        if (!observer_frame(m_, res.y, e.frame)) {
           e.status = kHorizon;
           return e;
         }
         double n[3];
-        e.energy = -momentum_to_frame(fh, res.y + 4, n);
+        e.energy = -momentum_to_frame(e.frame, res.y + 4, n);
         for (int i = 0; i < 8; ++i) e.y[i] = res.y[i];
-        e.frame = fh;
         e.dir = V3(n);
-        e.normal_local = local_normal(res.y, fh, sc_.surface(e.prim, e.pos).normal);
-        e.to_local = local_map(res.y, fh);
+        e.surface = sc_.surface(e.prim, e.pos);
+        e.normal_local = local_normal(res.y, e.frame, e.surface.normal);
+        e.to_local = local_map(res.y, e.frame);
       }
       return e;
     }
@@ -318,7 +319,7 @@ class PathTracer {
   V3 emission(const SegmentEnd& e) const {
     if (e.status == kEscaped) return sc_.sky(e.sheet).radiance(e.dir);
     if (e.status != kHit) return {0, 0, 0};
-    const V3 L = sc_.emitted(e.prim, sc_.surface(e.prim, e.pos), e.normal_local, -e.dir);
+    const V3 L = sc_.emitted(e.prim, e.surface, e.normal_local, -e.dir);
     const Material& m = sc_.materials[sc_.prims[e.prim].material];
     if (!m.beaming || max_component(L) <= 0.0) return L;
     const double g = shift(e, m);
@@ -508,8 +509,7 @@ class PathTracer {
         film.redshift[pix] = float(g);
         film.depth[pix] = e.status == kHit ? float(length(e.pos - cam.position)) : INFINITY;
         if (e.status == kHit) {
-          const V3 n = sc_.surface(e.prim, e.pos).normal;
-          for (int c = 0; c < 3; ++c) film.normal[3 * pix + c] = float(n[c]);
+          for (int c = 0; c < 3; ++c) film.normal[3 * pix + c] = float(e.surface.normal[c]);
         }
       }
       const V3 Le = emission(e);
@@ -517,7 +517,7 @@ class PathTracer {
       if (e.status != kHit) break;
       const Material& mat = sc_.materials[sc_.prims[e.prim].material];
       if (mat.kind == MaterialKind::kEmissive || bounce + 1 >= o_.max_depth) break;
-      const SurfacePoint sp = sc_.surface(e.prim, e.pos);
+      const SurfacePoint& sp = e.surface;
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
       const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
       Aim aimed;
