@@ -101,14 +101,19 @@ def _image_means(scene, seeds, **kw):
     return np.array([wv.render(scene, seed=s, **kw).rgb.mean() for s in seeds])
 
 
+def assert_same_mean(a, b, *, slack=0.0):
+    """Two estimators' per-seed image means agree within 4 standard errors (plus `slack`)."""
+    err = math.sqrt(a.var(ddof=1) / len(a) + b.var(ddof=1) / len(b))
+    assert abs(a.mean() - b.mean()) < 4 * err + slack
+
+
 def test_light_connection_and_brute_force_agree_in_curved_room():
     """Both estimators are unbiased: their image means agree within the sampling error."""
     scene = room(metric("schwarzschild", 1.0), size=(16, 12), light=4.0)
     seeds = range(6)
     nee = _image_means(scene, seeds, spp=8, light_sampling=True, max_depth=4)
     brute = _image_means(scene, seeds, spp=8, light_sampling=False, max_depth=4)
-    err = math.sqrt(nee.var(ddof=1) / len(nee) + brute.var(ddof=1) / len(brute))
-    assert abs(nee.mean() - brute.mean()) < 4 * err + 1e-3 * nee.mean()
+    assert_same_mean(nee, brute, slack=1e-3 * nee.mean())
     assert nee.var() < brute.var()  # and the light connection is the better one
 
 
@@ -116,8 +121,7 @@ def test_light_connection_and_brute_force_agree_flat():
     scene = room(metric(), size=(16, 12), light=2.0)
     nee = _image_means(scene, range(6), spp=8, light_sampling=True, max_depth=4)
     brute = _image_means(scene, range(6), spp=8, light_sampling=False, max_depth=4)
-    err = math.sqrt(nee.var(ddof=1) / 6 + brute.var(ddof=1) / 6)
-    assert abs(nee.mean() - brute.mean()) < 4 * err
+    assert_same_mean(nee, brute)
     assert nee.var() < 0.5 * brute.var()
 
 
@@ -297,8 +301,7 @@ def test_aimed_light_samples_reach_the_light_more_often_and_stay_unbiased():
     assert aimed_reach > plain_reach + 0.2
     aimed = _image_means(scene, range(6), spp=8, aim_lights=True, max_depth=3)
     plain = _image_means(scene, range(6), spp=8, aim_lights=False, max_depth=3)
-    err = math.sqrt(aimed.var(ddof=1) / 6 + plain.var(ddof=1) / 6)
-    assert abs(aimed.mean() - plain.mean()) < 4 * err + 1e-3 * plain.mean()
+    assert_same_mean(aimed, plain, slack=1e-3 * plain.mean())
 
 
 def test_colour_shift_blues_the_approaching_side_and_keeps_grey_grey_at_g_1():
