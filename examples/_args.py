@@ -1,6 +1,7 @@
 """Command-line helpers shared by the example scripts (run as ``python examples/<name>.py``)."""
 
 import argparse
+from pathlib import Path
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -12,3 +13,21 @@ def parse_size(text: str) -> tuple[int, int]:
     if width < 2 or height < 2:
         raise argparse.ArgumentTypeError(f"the image must be at least 2x2 pixels, got {text!r}")
     return width, height
+
+
+def example_parser(doc: str, *, size: tuple[int, int]) -> argparse.ArgumentParser:
+    """The options every example takes: ``--size WxH``, ``--spp`` and ``--out`` (default examples/output).
+
+    Parameters
+    ----------
+    doc : str
+        The script's docstring; its first paragraph becomes the description.
+    size : (int, int), keyword-only
+        Default image size.
+    """
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("--size", type=parse_size, default=size, help=f"image size WxH (default {size[0]}x{size[1]})")
+    parser.add_argument("--spp", type=int, default=4, help="samples per pixel (default 4)")
+    parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / "output",
+                        help="output folder (default examples/output)")
+    return parser

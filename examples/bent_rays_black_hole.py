@@ -18,13 +18,11 @@ Writes into ``examples/output/`` (or ``--out``):
 
 from __future__ import annotations
 
-import argparse
-from pathlib import Path
 
 import numpy as np
 
 import warpviz as wv
-from _args import parse_size
+from _args import example_parser
 
 
 def black_hole_scene(width: int, height: int) -> dict:
@@ -53,11 +51,7 @@ def turning_angle(path: np.ndarray) -> float:
 
 
 def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--size", type=parse_size, default=(160, 80), help="image size WxH (default 160x80)")
-    parser.add_argument("--spp", type=int, default=4, help="samples per pixel (default 4)")
-    parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / "output",
-                        help="output folder (default examples/output)")
+    parser = example_parser(__doc__, size=(160, 80))
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
 

@@ -20,13 +20,11 @@ Writes into ``examples/output/`` (or ``--out``):
 
 from __future__ import annotations
 
-import argparse
-from pathlib import Path
 
 import numpy as np
 
 import warpviz as wv
-from _args import parse_size
+from _args import example_parser
 
 THROAT = 1.0
 
@@ -47,12 +45,8 @@ def wormhole_scene(width: int, height: int) -> dict:
 
 
 def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--size", type=parse_size, default=(128, 64), help="image size WxH (default 128x64)")
-    parser.add_argument("--spp", type=int, default=4, help="samples per pixel (default 4)")
+    parser = example_parser(__doc__, size=(128, 64))
     parser.add_argument("--rays", type=int, default=13, help="rays in the fan (default 13)")
-    parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / "output",
-                        help="output folder (default examples/output)")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
 

@@ -1,6 +1,5 @@
 """Ellis wormhole: exact deflection, passage to the other sheet, the regular chart at the throat."""
 
-import math
 
 import numpy as np
 import pytest

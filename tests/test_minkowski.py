@@ -1,7 +1,6 @@
 """Flat space: exact straight lines with no integration, and the curved machinery's flat limit."""
 
 import numpy as np
-import pytest
 
 import warpviz as wv
 

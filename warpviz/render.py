@@ -27,7 +27,6 @@ from __future__ import annotations
 import copy
 import os
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
 
