@@ -233,11 +233,9 @@ class PathTracer {
   // State of a ray traced backwards from user-frame point x along local direction d: the future-directed
   // momentum of light arriving there along d, negated. False on or inside a horizon.
   bool backward_state(V3 x, int sheet, V3 d, double y[8]) const {
-    ObserverFrame f;
-    if (!m_.user_to_chart(&x.x, sheet, y) || m_.absorbed(y) || !observer_frame(m_, y, f)) return false;
-    double p[4], minus_d[3] = {-d.x, -d.y, -d.z};
-    frame_to_momentum(f, minus_d, p);
-    for (int i = 0; i < 4; ++i) y[4 + i] = -p[i];
+    const double minus_d[3] = {-d.x, -d.y, -d.z};
+    if (!photon_state(m_, &x.x, minus_d, sheet, y) || m_.absorbed(y)) return false;
+    for (int i = 4; i < 8; ++i) y[i] = -y[i];
     return true;
   }
 

@@ -99,6 +99,17 @@ inline void frame_to_momentum(const ObserverFrame& f, const double n[3], double 
   }
 }
 
+// State y = (chart position, covariant momentum) of a photon of unit local energy leaving user-frame
+// point pos on `sheet` along the local observer's unit direction dir; false outside the chart or where no
+// observer exists.
+template <class M>
+bool photon_state(const M& m, const double pos[3], const double dir[3], int sheet, double y[8]) {
+  ObserverFrame f;
+  if (!m.user_to_chart(pos, sheet, y) || !observer_frame(m, y, f)) return false;
+  frame_to_momentum(f, dir, y + 4);
+  return true;
+}
+
 // Unit direction n seen by the frame's observer for covariant momentum p; returns the local energy.
 inline double momentum_to_frame(const ObserverFrame& f, const double p[4], double n[3]) {
   double energy = 0.0;

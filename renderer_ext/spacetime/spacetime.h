@@ -88,13 +88,7 @@ class SpacetimeImpl final : public Spacetime {
   }
 
   bool initial_state(const double pos[3], const double dir[3], int sheet, double y[8]) const override {
-    double x[4];
-    if (!m_.user_to_chart(pos, sheet, x)) return false;
-    ObserverFrame f;
-    if (!observer_frame(m_, x, f)) return false;
-    for (int i = 0; i < 4; ++i) y[i] = x[i];
-    frame_to_momentum(f, dir, y + 4);
-    return true;
+    return photon_state(m_, pos, dir, sheet, y);
   }
 
   TraceResult trace(const TraceRequest& req) const override {
