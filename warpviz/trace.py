@@ -49,6 +49,7 @@ def trace(
     max_drift: float | None = None,
     rk4_step: float = 1.0,
     threads: int = 0,
+    batch: bool = True,
 ) -> RayBundle:
     """Trace null geodesics (light rays) forward from ``origins`` along ``directions``.
 
@@ -92,6 +93,10 @@ def trace(
         (default 1.0).
     threads : int, keyword-only
         Worker threads; 0 uses every core.
+    batch : bool, keyword-only
+        ``dopri5`` only: step rays together in SIMD batches of eight (several times faster). Each
+        ray's result is bit-identical to tracing it alone (``batch=False``), which is kept for
+        comparison and benchmarks.
 
     Returns
     -------
@@ -162,7 +167,7 @@ def trace(
 
     raw = core.trace(
         metric.name, metric.param_values, origins, directions, sheets_arr, tol, stepper, max_steps,
-        escape_radius, max_drift, rk4_step, bool(record), threads,
+        escape_radius, max_drift, rk4_step, bool(record), threads, bool(batch),
     )  # fmt: skip
     drift = {k: np.asarray(v) for k, v in raw["invariant_drift"].items()}
     points = offsets = None

@@ -16,6 +16,7 @@
 #include "bindings/scene_dict.h"
 #include "core/parallel.h"
 #include "core/registry.h"
+#include "core/simd.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -64,7 +65,7 @@ std::vector<double> copy1(const F64In& a, size_t expected, const char* what) {
 
 nb::dict trace(const std::string& metric, const std::vector<double>& params, F64In origins, F64In directions,
                I32In sheets, double tol, const std::string& stepper, long max_steps, double escape_radius,
-               double max_drift, double rk4_step, bool record, int threads) {
+               double max_drift, double rk4_step, bool record, int threads, bool batch) {
   auto st = wv::make_spacetime(metric, params);
   const size_t n = origins.ndim() == 2 ? origins.shape(0) : 0;
   check_rows(origins, n, "origins");
@@ -77,6 +78,7 @@ nb::dict trace(const std::string& metric, const std::vector<double>& params, F64
   req.sheets = sheets.data();
   req.stepper = stepper_kind(stepper);
   req.threads = threads;
+  req.batch = batch;
   req.options.tol = tol;
   req.options.max_steps = max_steps;
   req.options.escape_radius = escape_radius;
@@ -351,7 +353,7 @@ NB_MODULE(_core, m) {
   m.def("bsdf", &bsdf, "material"_a, "albedo"_a, "n"_a, "wo"_a, "u"_a, "at"_a,
         "Test hook: sample and evaluate one material's BSDF in a local frame.");
   m.def("trace", &trace, "metric"_a, "params"_a, "origins"_a, "directions"_a, "sheets"_a, "tol"_a, "stepper"_a,
-        "max_steps"_a, "escape_radius"_a, "max_drift"_a, "rk4_step"_a, "record"_a, "threads"_a,
+        "max_steps"_a, "escape_radius"_a, "max_drift"_a, "rk4_step"_a, "record"_a, "threads"_a, "batch"_a,
         "Trace rays; see warpviz.trace for the documented interface.");
   m.def(
       "inverse_metric",
@@ -415,6 +417,7 @@ NB_MODULE(_core, m) {
     d["flags"] = std::string(WARPVIZ_BUILD_FLAGS);
     d["hardware_threads"] = wv::resolve_threads(0);
     d["threading"] = std::string("std::thread pool, GIL released, deterministic per ray");
+    d["simd"] = std::to_string(wv::kLanes) + "-ray dopri5 batches, " + wv::lane_kernel_isa() + " kernel";
     return d;
   });
 }

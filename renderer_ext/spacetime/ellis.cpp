@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/registry.h"
+#include "core/simd.h"
 #include "spacetime/metric.h"
 #include "spacetime/params.h"
 
@@ -42,17 +43,19 @@ struct EllisWormhole : MetricBase<EllisWormhole> {
   }
 
   // H = (-p_t^2 + |p|^2 / Omega^2) / 2;  d_i Omega = -b0^2 x_i / rho^4.
-  void rhs(const double y[8], double dy[8]) const {
-    const double x = y[1], yy = y[2], z = y[3], px = y[5], py = y[6], pz = y[7];
-    const double rho2 = x * x + yy * yy + z * z;
-    const double om = 0.5 * (1.0 + b02 / rho2), iom = 1.0 / om, iom2 = iom * iom;
-    const double p2 = px * px + py * py + pz * pz;
+  // T is double or Lanes (core/simd.h).
+  template <class T>
+  WV_INLINE void rhs(const T y[8], T dy[8]) const {
+    const T x = y[1], yy = y[2], z = y[3], px = y[5], py = y[6], pz = y[7];
+    const T rho2 = x * x + yy * yy + z * z;
+    const T om = 0.5 * (1.0 + b02 / rho2), iom = 1.0 / om, iom2 = iom * iom;
+    const T p2 = px * px + py * py + pz * pz;
     dy[0] = -y[4];
     dy[1] = px * iom2;
     dy[2] = py * iom2;
     dy[3] = pz * iom2;
-    dy[4] = 0.0;
-    const double c = -p2 * b02 * iom2 * iom / (rho2 * rho2);
+    dy[4] = T{};
+    const T c = -p2 * b02 * iom2 * iom / (rho2 * rho2);
     dy[5] = c * x;
     dy[6] = c * yy;
     dy[7] = c * z;
@@ -99,7 +102,7 @@ struct EllisWormhole : MetricBase<EllisWormhole> {
     return s.str();
   }
 
-  void conserved(const double y[8], double out[], double mag[]) const {
+  void conserved(const double y[8], const HamiltonianParts& /*hp*/, double out[], double mag[]) const {
     double l[3];
     angular_momentum(y, l);
     out[1] = -y[4];

@@ -171,238 +171,336 @@ void straight_ray(const M& m, const double y[8], int sheet, const TraceOptions& 
   (void)m;
 }
 
-// Integrates one ray from state y (chart coordinates, covariant momentum) on `sheet`.
+// One ray's integration, resumable one step attempt at a time, so the same logic drives a ray on its
+// own (integrate_ray) and a ray in one lane of a SIMD batch (ray_batch.h):
+//
+//   GeodesicRay<M, S, Surf> ray;
+//   if (ray.begin(m, y, sheet, options, res, track, surfaces)) {   // false: finished already
+//     st.init(m, ray.y);
+//     while (ray.next()) {                                          // false: out of step budget
+//       const double e = st.attempt(m, ray.y, ray.h, options.tol, ynew);
+//       if (!ray.advance(st, e, ynew)) break;                       // false: the ray has ended
+//     }
+//   }
+//
+// S is the stepper (or, in a batch, a view of one lane of the batch stepper); `advance` may call its
+// dense output, re-attempt partial steps to reach a crossing, and accept() / init() it.
+template <class M, class S, class Surf = NoSurfaces>
+class GeodesicRay {
+ public:
+  static constexpr int K = M::kNumInvariants;
+  double y[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // state to step from
+  double h = 0.0;                          // step to attempt next
+
+  // Sets up the ray from state y0 (chart coordinates, covariant momentum) on `sheet`. Returns false if
+  // the ray ended already (flat space, a non-finite start, or already beyond its escape target).
+  bool begin(const M& m, const double y0[8], int sheet, const TraceOptions& o, RayResult& res, Track* track,
+             Surf* surfaces = nullptr) {
+    m_ = &m;
+    o_ = &o;
+    res_ = &res;
+    track_ = track;
+    surfaces_ = surfaces;
+    sheet_ = sheet;
+    for (int i = 0; i < 8; ++i) y[i] = y0[i];
+    if constexpr (M::kFlat) {
+      straight_ray(m, y, sheet, o, res, track);
+      return false;
+    } else {
+      m.invariants(y, inv0_);
+      m.invariant_scales(y, inv0_, scale_);
+      // Like H below, each conserved quantity's drift is measured against the largest size of the
+      // terms it is computed from along the ray (at least its scale at the start): where momenta grow
+      // large (backward rays near a horizon) the cancellation in those terms limits what can be
+      // conserved.
+      for (int k = 0; k < K; ++k) mag_[k] = 0.0;
+      const HamiltonianParts hp0 = hamiltonian_parts(m, y);
+      m.conserved(y, hp0, inv_, mag_);
+      for (int k = 1; k < K; ++k) scale_[k] = std::max(scale_[k], mag_[k]);
+      for (int k = 0; k < K; ++k) drift_[k] = 0.0;
+      // H is measured relative to the largest size its terms had along the ray: the rounding and
+      // truncation errors committed where the coordinate momenta were large (e.g. an outgoing ray
+      // starting just outside a horizon) do not grow as the momenta shrink, and no step-size
+      // reduction later could remove them.
+      h_scale_ = 0.0;
+      drift_[0] = herr_of(hp0);
+      for (int k = 0; k < K; ++k) res.drift[k] = drift_[k];
+      res.n_steps = 0;
+      lam_ = 0.0;
+      energy0_ = track ? local_energy(m, y) : 0.0;
+
+      record(y, 0.0, 0.0);
+      if (!state_finite(y)) return finish(kNaN, y);
+
+      r_h_ = o.backward ? m.capture_radius() : m.horizon_radius();
+      // Seed RK4: the fixed base step is halved (powers of two) until it is at most kappa times the
+      // distance to the centre, kappa = tol^(1/4) (global error ~ kappa^4).
+      kappa_ = std::min(0.1, std::max(1e-4, std::pow(o.tol, 0.25)));
+      target_ = o.escape_radius;
+      escaped_ = false;
+      if (m.radius(y) >= o.escape_radius && moving_outward(m, y)) {  // starts outside, moving out
+        res.sheet = m.chart_to_user(y, sheet, escape_pos_);
+        escaped_ = true;
+        target_ = std::max(o.escape_radius, tail_radius(y));
+        if (m.radius(y) >= target_) return finish_escaped(y);
+      }
+      r_ = m.radius(y);
+      h = S::kAdaptive ? 0.01 * std::max(r_, m.length_scale()) : rk4_step_for(r_);
+      log_err_prev_ = kLogErrFloor;
+      last_rejected_ = false;
+      reinit_ = false;
+      attempts_ = 0;
+      return true;
+    }
+  }
+
+  // Counts the next step attempt; false (the ray has ended) once the budget is spent.
+  bool next() {
+    if (attempts_ >= o_->max_steps) {
+      if (escaped_) finish_escaped(y);
+      else finish(kMaxSteps, y);
+      return false;
+    }
+    ++attempts_;
+    return true;
+  }
+
+  // Takes the result of st.attempt(m, y, h, tol, ynew) with scaled error e: rejects it (smaller h),
+  // or accepts it, checks surfaces, horizon, escape and the conserved quantities, and sets up the
+  // next attempt. Returns false when the ray has ended (its RayResult is complete).
+  bool advance(S& st, double e, const double ynew[8]) {
+    const M& m = *m_;
+    const TraceOptions& o = *o_;
+    RayResult& res = *res_;
+    double ys[8];
+    const double h_min = 1e-12 * std::max(1.0, r_);
+    if (!state_finite(ynew) || !std::isfinite(e)) {
+      h *= 0.25;
+      last_rejected_ = true;
+      if (h < h_min) return finish(kNaN, y);
+      return true;
+    }
+    if (S::kAdaptive && e > 1.0) {
+      h *= std::max(0.2, 0.9 * std::pow(e, -1.0 / S::kOrder));
+      last_rejected_ = true;
+      if (h < h_min) return finish(kNaN, y);
+      return true;
+    }
+    const HamiltonianParts hp = hamiltonian_parts_from_rhs(ynew, st.derivative_new());
+    const double herr = hp.abs2h / std::max(h_scale_, hp.mag);
+    if (!(herr <= o.max_drift)) {
+      // Conserved-quantity monitor: retry smaller; a ray that cannot satisfy it is marked.
+      h *= 0.5;
+      last_rejected_ = true;
+      if (h < h_min || (!S::kAdaptive && h < o.rk4_step * 1e-3)) return finish(kInvariantViolation, y);
+      return true;
+    }
+    // Accepted step from y to ynew.
+    ++res.n_steps;
+    h_scale_ = std::max(h_scale_, hp.mag);
+    if constexpr (Surf::kActive) {
+      // Surface hit: located on the dense output, the state there from a full-order step.
+      double theta;
+      int prim;
+      if (surfaces_ && surfaces_->find(st, y, ynew, h, sheet_, theta, prim)) {
+        st.attempt(m, y, theta * h, o.tol, ys);
+        monitor_at(ys);
+        record(ys, lam_ + theta * h, theta * h);
+        res.prim = prim;
+        return finish(kHit, ys);
+      }
+    }
+    const double r_new = m.radius(ynew);
+    // Horizon: locate the crossing r = r_h on the dense output so the path ends on the horizon.
+    if (r_new < r_h_) {
+      auto dr = [&](double t) {
+        st.dense(y, ynew, h, t, ys);
+        return m.radius(ys) - r_h_;
+      };
+      const double hi = crossing(dr, 0.0, r_ - r_h_, 1.0, r_new - r_h_, 1e-14, 1e-13 * std::max(1.0, r_h_));
+      // The crossing is found on the dense output; the state there comes from a full-order step.
+      st.attempt(m, y, hi * h, o.tol, ys);
+      monitor_at(ys);
+      record(ys, lam_ + hi * h, hi * h);
+      return finish(kHorizon, ys);
+    }
+    // Escape: moving outward beyond the escape radius. The final position is the crossing of the
+    // escape sphere (located on the dense output); the direction keeps integrating, unrecorded, out
+    // to the radius where the Born tail's second-order error ~ 10 l^2 b / R^3 is below tol (cheap
+    // for adaptive steppers, whose steps grow with r).
+    if (r_new >= target_ && moving_outward(m, ynew)) {
+      if (!escaped_) {
+        double frac = 1.0;
+        if (r_ < o.escape_radius) {
+          const double R = o.escape_radius;
+          auto dr = [&](double t) {
+            st.dense(y, ynew, h, t, ys);
+            return m.radius(ys) - R;
+          };
+          const double hi = crossing(dr, 0.0, r_ - R, 1.0, r_new - R, 1e-14, 1e-13 * R);
+          frac = hi;
+          st.attempt(m, y, hi * h, o.tol, ys);  // full-order state at the crossing
+          reinit_ = true;                        // the trial step overwrote the stepper's stages
+        } else {
+          for (int i = 0; i < 8; ++i) ys[i] = ynew[i];
+        }
+        if (!monitor_at(ys)) return finish(kInvariantViolation, ys);
+        record(ys, lam_ + frac * h, frac * h);
+        res.sheet = m.chart_to_user(ys, sheet_, escape_pos_);
+        escaped_ = true;
+        target_ = std::max(o.escape_radius, tail_radius(ys));
+      }
+      if (r_new >= target_) return finish_escaped(ynew);
+    }
+    const bool ok = monitor(ynew, hp, herr);
+    lam_ += h;
+    if (!escaped_) record(ynew, lam_, h);
+    st.accept();
+    for (int i = 0; i < 8; ++i) y[i] = ynew[i];
+    if (!ok) return finish(kInvariantViolation, y);
+    r_ = r_new;
+    if (m.normalize_chart(y, sheet_)) {
+      st.init(m, y);
+      r_ = m.radius(y);
+    } else if (reinit_) {
+      st.init(m, y);
+    }
+    reinit_ = false;
+    if constexpr (S::kAdaptive) {
+      // PI step-size control (Gustafsson; Hairer & Wanner's constants).
+      constexpr double beta = 0.04, alpha = 1.0 / S::kOrder - 0.75 * beta;
+      const double log_e = std::log(std::max(e, 1e-10));
+      double fac = 0.9 * std::exp(beta * log_err_prev_ - alpha * log_e);
+      fac = std::min(5.0, std::max(0.2, fac));
+      if (last_rejected_) fac = std::min(fac, 1.0);
+      h *= fac;
+      log_err_prev_ = e >= 1e-4 ? log_e : kLogErrFloor;  // log(max(e, 1e-4))
+      h = std::min(h, 0.5 * std::max(r_, m.length_scale()));
+    } else {
+      h = rk4_step_for(r_);
+    }
+    last_rejected_ = false;
+    return true;
+  }
+
+ private:
+  double herr_of(const HamiltonianParts& hp) {
+    h_scale_ = std::max(h_scale_, hp.mag);
+    return h_scale_ > 0.0 ? hp.abs2h / h_scale_ : 0.0;
+  }
+
+  void record(const double* ys, double lam_s, double hs) {
+    if (!track_) return;
+    const M& m = *m_;
+    double pos[3];
+    const int sh = m.chart_to_user(ys, sheet_, pos);
+    track_->xyz.insert(track_->xyz.end(), pos, pos + 3);
+    track_->cols.push_back(lam_s);
+    track_->cols.push_back(ys[0]);
+    track_->cols.push_back(m.radius(ys));
+    track_->cols.push_back(hs);
+    for (int k = 0; k < K; ++k) track_->cols.push_back(drift_[k]);
+    track_->cols.push_back(energy0_ > 0.0 ? local_energy(m, ys) / energy0_ : 0.0);
+    track_->cols.push_back(double(sh));
+  }
+
+  // Ends a ray that did not escape: its direction is the coordinate direction of motion.
+  bool finish(int status, const double* ys) {
+    RayResult& res = *res_;
+    res.status = status;
+    for (int i = 0; i < 8; ++i) res.y[i] = ys[i];
+    res.sheet = m_->chart_to_user(ys, sheet_, res.pos);
+    double f[8];
+    m_->rhs(ys, f);
+    const double n = std::sqrt(f[1] * f[1] + f[2] * f[2] + f[3] * f[3]);
+    for (int i = 0; i < 3; ++i) res.dir[i] = (n > 0.0 && std::isfinite(n)) ? f[1 + i] / n : 0.0;
+    if (!state_finite(ys)) {
+      for (int i = 0; i < 3; ++i) res.pos[i] = res.dir[i] = 0.0;
+    }
+    return false;
+  }
+
+  bool finish_escaped(const double* ys) {
+    RayResult& res = *res_;
+    res.status = kEscaped;
+    for (int i = 0; i < 8; ++i) res.y[i] = ys[i];
+    asymptotic_direction(*m_, ys, res.dir);
+    for (int i = 0; i < 3; ++i) res.pos[i] = escape_pos_[i];
+    return false;
+  }
+
+  // Evaluates the conserved quantities at ys (H's parts there hp, its relative error herr) and updates
+  // the running maxima; false on violation.
+  bool monitor(const double* ys, const HamiltonianParts& hp, double herr) {
+    m_->conserved(ys, hp, inv_, mag_);
+    drift_[0] = herr;
+    bool ok = true;
+    for (int k = 1; k < K; ++k) {
+      scale_[k] = std::max(scale_[k], mag_[k]);
+      drift_[k] = std::fabs(inv_[k] - inv0_[k]) / scale_[k];
+      if (!(drift_[k] <= o_->max_drift)) ok = false;
+    }
+    for (int k = 0; k < K; ++k) res_->drift[k] = std::max(res_->drift[k], drift_[k]);
+    return ok;
+  }
+
+  bool monitor_at(const double* ys) {
+    const HamiltonianParts hp = hamiltonian_parts(*m_, ys);
+    const double herr = herr_of(hp);
+    return monitor(ys, hp, herr);
+  }
+
+  double rk4_step_for(double r) const {
+    double hs = o_->rk4_step;
+    while (hs > kappa_ * r && hs > 1e-12) hs *= 0.5;
+    return hs;
+  }
+
+  // Radius beyond which the Born tail of asymptotic_direction is accurate to tol for this ray.
+  double tail_radius(const double* ys) const {
+    const M& m = *m_;
+    const double ell = m.length_scale();
+    double f[8];
+    m.rhs(ys, f);
+    const double cx = ys[2] * f[3] - ys[3] * f[2], cy = ys[3] * f[1] - ys[1] * f[3], cz = ys[1] * f[2] - ys[2] * f[1];
+    const double v = std::sqrt(f[1] * f[1] + f[2] * f[2] + f[3] * f[3]);
+    const double b = std::max(ell, std::sqrt(cx * cx + cy * cy + cz * cz) / v);
+    return std::cbrt(10.0 * ell * ell * b / o_->tol);
+  }
+
+  static inline const double kLogErrFloor = std::log(1e-4);
+  const M* m_ = nullptr;
+  const TraceOptions* o_ = nullptr;
+  RayResult* res_ = nullptr;
+  Track* track_ = nullptr;
+  Surf* surfaces_ = nullptr;
+  int sheet_ = 1;
+  double inv0_[K], scale_[K], inv_[K], drift_[K], mag_[K];
+  double h_scale_ = 0.0, lam_ = 0.0, energy0_ = 0.0;
+  double r_h_ = 0.0, kappa_ = 0.1, target_ = 0.0, r_ = 0.0;
+  bool escaped_ = false;  // crossed the escape sphere; still integrating for the direction
+  double escape_pos_[3] = {0, 0, 0};
+  double log_err_prev_ = 0.0;
+  bool last_rejected_ = false, reinit_ = false;
+  long attempts_ = 0;
+};
+
+// Integrates one ray from state y (chart coordinates, covariant momentum) on `sheet`; y is left at the
+// last accepted state.
 template <class M, class S, class Surf = NoSurfaces>
 void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, RayResult& res, Track* track,
                    Surf* surfaces = nullptr) {
-  if constexpr (M::kFlat) {
-    straight_ray(m, y, sheet, o, res, track);
-    return;
-  } else {
-    constexpr int K = M::kNumInvariants;
-    double inv0[K], scale[K], inv[K], drift[K], mag[K];
-    m.invariants(y, inv0);
-    m.invariant_scales(y, inv0, scale);
-    // Like H below, each conserved quantity's drift is measured against the largest size of the terms
-    // it is computed from along the ray (at least its scale at the start): where momenta grow large
-    // (backward rays near a horizon) the cancellation in those terms limits what can be conserved.
-    for (int k = 0; k < K; ++k) mag[k] = 0.0;
-    m.conserved(y, inv, mag);
-    for (int k = 1; k < K; ++k) scale[k] = std::max(scale[k], mag[k]);
-    for (int k = 0; k < K; ++k) drift[k] = 0.0;
-    // H is measured relative to the largest size its terms had along the ray: the rounding and
-    // truncation errors committed where the coordinate momenta were large (e.g. an outgoing ray
-    // starting just outside a horizon) do not grow as the momenta shrink, and no step-size
-    // reduction later could remove them.
-    double h_scale = 0.0;
-    auto herr_of = [&](const HamiltonianParts& hp) {
-      h_scale = std::max(h_scale, hp.mag);
-      return h_scale > 0.0 ? hp.abs2h / h_scale : 0.0;
-    };
-    auto herr_at = [&](const double* ys) { return herr_of(hamiltonian_parts(m, ys)); };
-    drift[0] = herr_at(y);
-    for (int k = 0; k < K; ++k) res.drift[k] = drift[k];
-    res.n_steps = 0;
-    double lam = 0.0;
-
-    const double energy0 = track ? local_energy(m, y) : 0.0;
-    auto record = [&](const double* ys, double lam_s, double h) {
-      if (!track) return;
-      double pos[3];
-      const int sh = m.chart_to_user(ys, sheet, pos);
-      track->xyz.insert(track->xyz.end(), pos, pos + 3);
-      track->cols.push_back(lam_s);
-      track->cols.push_back(ys[0]);
-      track->cols.push_back(m.radius(ys));
-      track->cols.push_back(h);
-      for (int k = 0; k < K; ++k) track->cols.push_back(drift[k]);
-      track->cols.push_back(energy0 > 0.0 ? local_energy(m, ys) / energy0 : 0.0);
-      track->cols.push_back(double(sh));
-    };
-    // Ends a ray that did not escape: its direction is the coordinate direction of motion.
-    auto finish = [&](int status, const double* ys) {
-      res.status = status;
-      for (int i = 0; i < 8; ++i) res.y[i] = ys[i];
-      res.sheet = m.chart_to_user(ys, sheet, res.pos);
-      double f[8];
-      m.rhs(ys, f);
-      const double n = std::sqrt(f[1] * f[1] + f[2] * f[2] + f[3] * f[3]);
-      for (int i = 0; i < 3; ++i) res.dir[i] = (n > 0.0 && std::isfinite(n)) ? f[1 + i] / n : 0.0;
-      if (!state_finite(ys)) {
-        for (int i = 0; i < 3; ++i) res.pos[i] = res.dir[i] = 0.0;
-      }
-    };
-    // Evaluates the conserved quantities at ys and updates the running maxima; false on violation.
-    auto monitor = [&](const double* ys, double herr) {
-      m.conserved(ys, inv, mag);
-      drift[0] = herr;
-      bool ok = true;
-      for (int k = 1; k < K; ++k) {
-        scale[k] = std::max(scale[k], mag[k]);
-        drift[k] = std::fabs(inv[k] - inv0[k]) / scale[k];
-        if (!(drift[k] <= o.max_drift)) ok = false;
-      }
-      for (int k = 0; k < K; ++k) res.drift[k] = std::max(res.drift[k], drift[k]);
-      return ok;
-    };
-
-    record(y, 0.0, 0.0);
-    if (!state_finite(y)) return finish(kNaN, y);
-
-    const double r_h = o.backward ? m.capture_radius() : m.horizon_radius();
-    // Seed RK4: the fixed base step is halved (powers of two) until it is at most kappa times the
-    // distance to the centre, kappa = tol^(1/4) (global error ~ kappa^4).
-    const double kappa = std::min(0.1, std::max(1e-4, std::pow(o.tol, 0.25)));
-    auto rk4_step_for = [&](double r) {
-      double h = o.rk4_step;
-      while (h > kappa * r && h > 1e-12) h *= 0.5;
-      return h;
-    };
-
-    // Radius beyond which the Born tail of asymptotic_direction is accurate to tol for this ray.
-    const double ell = m.length_scale();
-    auto tail_radius = [&](const double* ys) {
-      double f[8];
-      m.rhs(ys, f);
-      const double cx = ys[2] * f[3] - ys[3] * f[2], cy = ys[3] * f[1] - ys[1] * f[3], cz = ys[1] * f[2] - ys[2] * f[1];
-      const double v = std::sqrt(f[1] * f[1] + f[2] * f[2] + f[3] * f[3]);
-      const double b = std::max(ell, std::sqrt(cx * cx + cy * cy + cz * cz) / v);
-      return std::cbrt(10.0 * ell * ell * b / o.tol);
-    };
-    double target = o.escape_radius;
-    bool escaped = false;  // crossed the escape sphere; still integrating for the direction
-    double escape_pos[3];
-    auto finish_escaped = [&](const double* ys) {
-      res.status = kEscaped;
-      for (int i = 0; i < 8; ++i) res.y[i] = ys[i];
-      asymptotic_direction(m, ys, res.dir);
-      for (int i = 0; i < 3; ++i) res.pos[i] = escape_pos[i];
-    };
-
-    if (m.radius(y) >= o.escape_radius && moving_outward(m, y)) {  // starts outside, moving out
-      res.sheet = m.chart_to_user(y, sheet, escape_pos);
-      escaped = true;
-      target = std::max(o.escape_radius, tail_radius(y));
-      if (m.radius(y) >= target) return finish_escaped(y);
-    }
-
+  GeodesicRay<M, S, Surf> ray;
+  if (ray.begin(m, y, sheet, o, res, track, surfaces)) {
     S st;
-    st.init(m, y);
-    double r = m.radius(y);
-    double h = S::kAdaptive ? 0.01 * std::max(r, m.length_scale()) : rk4_step_for(r);
-    double log_err_prev = std::log(1e-4);
-    bool last_rejected = false;
-    bool reinit = false;
-    long attempts = 0;
-    double ynew[8], ys[8];
-    while (true) {
-      if (attempts >= o.max_steps) return escaped ? finish_escaped(y) : finish(kMaxSteps, y);
-      ++attempts;
-      const double h_min = 1e-12 * std::max(1.0, r);
-      const double e = st.attempt(m, y, h, o.tol, ynew);
-      if (!state_finite(ynew) || !std::isfinite(e)) {
-        h *= 0.25;
-        last_rejected = true;
-        if (h < h_min) return finish(kNaN, y);
-        continue;
-      }
-      if (S::kAdaptive && e > 1.0) {
-        h *= std::max(0.2, 0.9 * std::pow(e, -1.0 / S::kOrder));
-        last_rejected = true;
-        if (h < h_min) return finish(kNaN, y);
-        continue;
-      }
-      const HamiltonianParts hp = hamiltonian_parts_from_rhs(ynew, st.derivative_new());
-      const double herr = hp.abs2h / std::max(h_scale, hp.mag);
-      if (!(herr <= o.max_drift)) {
-        // Conserved-quantity monitor: retry smaller; a ray that cannot satisfy it is marked.
-        h *= 0.5;
-        last_rejected = true;
-        if (h < h_min || (!S::kAdaptive && h < o.rk4_step * 1e-3)) return finish(kInvariantViolation, y);
-        continue;
-      }
-      // Accepted step from y to ynew.
-      ++res.n_steps;
-      h_scale = std::max(h_scale, hp.mag);
-      if constexpr (Surf::kActive) {
-        // Surface hit: located on the dense output, the state there from a full-order step.
-        double theta;
-        int prim;
-        if (surfaces && surfaces->find(st, y, ynew, h, sheet, theta, prim)) {
-          st.attempt(m, y, theta * h, o.tol, ys);
-          monitor(ys, herr_at(ys));
-          record(ys, lam + theta * h, theta * h);
-          res.prim = prim;
-          return finish(kHit, ys);
-        }
-      }
-      const double r_new = m.radius(ynew);
-      // Horizon: locate the crossing r = r_h on the dense output so the path ends on the horizon.
-      if (r_new < r_h) {
-        auto dr = [&](double t) {
-          st.dense(y, ynew, h, t, ys);
-          return m.radius(ys) - r_h;
-        };
-        const double hi = crossing(dr, 0.0, r - r_h, 1.0, r_new - r_h, 1e-14, 1e-13 * std::max(1.0, r_h));
-        // The crossing is found on the dense output; the state there comes from a full-order step.
-        st.attempt(m, y, hi * h, o.tol, ys);
-        monitor(ys, herr_at(ys));
-        record(ys, lam + hi * h, hi * h);
-        return finish(kHorizon, ys);
-      }
-      // Escape: moving outward beyond the escape radius. The final position is the crossing of the
-      // escape sphere (located on the dense output); the direction keeps integrating, unrecorded, out
-      // to the radius where the Born tail's second-order error ~ 10 l^2 b / R^3 is below tol (cheap
-      // for adaptive steppers, whose steps grow with r).
-      if (r_new >= target && moving_outward(m, ynew)) {
-        if (!escaped) {
-          double frac = 1.0;
-          if (r < o.escape_radius) {
-            const double R = o.escape_radius;
-            auto dr = [&](double t) {
-              st.dense(y, ynew, h, t, ys);
-              return m.radius(ys) - R;
-            };
-            const double hi = crossing(dr, 0.0, r - R, 1.0, r_new - R, 1e-14, 1e-13 * R);
-            frac = hi;
-            st.attempt(m, y, hi * h, o.tol, ys);  // full-order state at the crossing
-            reinit = true;                        // the trial step overwrote the stepper's stages
-          } else {
-            for (int i = 0; i < 8; ++i) ys[i] = ynew[i];
-          }
-          if (!monitor(ys, herr_at(ys))) return finish(kInvariantViolation, ys);
-          record(ys, lam + frac * h, frac * h);
-          res.sheet = m.chart_to_user(ys, sheet, escape_pos);
-          escaped = true;
-          target = std::max(o.escape_radius, tail_radius(ys));
-        }
-        if (r_new >= target) return finish_escaped(ynew);
-      }
-      const bool ok = monitor(ynew, herr);
-      lam += h;
-      if (!escaped) record(ynew, lam, h);
-      st.accept();
-      for (int i = 0; i < 8; ++i) y[i] = ynew[i];
-      if (!ok) return finish(kInvariantViolation, y);
-      if (m.normalize_chart(y, sheet) || reinit) st.init(m, y);
-      reinit = false;
-      r = m.radius(y);
-      if constexpr (S::kAdaptive) {
-        // PI step-size control (Gustafsson; Hairer & Wanner's constants).
-        constexpr double beta = 0.04, alpha = 1.0 / S::kOrder - 0.75 * beta;
-        const double log_e = std::log(std::max(e, 1e-10));
-        double fac = 0.9 * std::exp(beta * log_err_prev - alpha * log_e);
-        fac = std::min(5.0, std::max(0.2, fac));
-        if (last_rejected) fac = std::min(fac, 1.0);
-        h *= fac;
-        log_err_prev = std::log(std::max(e, 1e-4));
-        h = std::min(h, 0.5 * std::max(r, m.length_scale()));
-      } else {
-        h = rk4_step_for(r);
-      }
-      last_rejected = false;
+    st.init(m, ray.y);
+    double ynew[8];
+    while (ray.next()) {
+      const double e = st.attempt(m, ray.y, ray.h, o.tol, ynew);
+      if (!ray.advance(st, e, ynew)) break;
     }
   }
+  for (int i = 0; i < 8; ++i) y[i] = ray.y[i];
 }
 
 }  // namespace wv

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/registry.h"
+#include "core/simd.h"
 #include "spacetime/metric.h"
 #include "spacetime/params.h"
 
@@ -32,11 +33,12 @@ struct Kerr : MetricBase<Kerr> {
         r_plus(M + std::sqrt((M - a) * (M + a))) {}
 
   // Boyer-Lindquist r from Cartesian Kerr-Schild x, y, z; stable on both sides of the disk r = 0.
+  // T is double, Dual<4> or Lanes (core/simd.h).
   template <class T>
-  T bl_radius(const T& x, const T& y, const T& z) const {
+  WV_INLINE T bl_radius(const T& x, const T& y, const T& z) const {
     const T w = x * x + y * y + z * z - a * a;
     const T disc = sqrt(w * w + 4.0 * a * a * z * z);
-    const T r2 = (w < 0.0) ? T(2.0 * a * a) * z * z / (disc - w) : 0.5 * (w + disc);
+    const T r2 = (w < 0.0) ? (2.0 * a * a) * z * z / (disc - w) : 0.5 * (w + disc);
     return sqrt(r2);
   }
 
@@ -52,31 +54,33 @@ struct Kerr : MetricBase<Kerr> {
 
   // Hand-written Hamilton equations. H = (-p_t^2 + |p|^2) / 2 - (f / 2) L^2, L = l^mu p_mu, and
   // d_i r = (x r^3, y r^3, z r (r^2 + a^2)) / (r^4 + a^2 z^2) from differentiating the r-equation.
-  void rhs(const double y[8], double dy[8]) const {
-    const double x = y[1], yy = y[2], z = y[3], pt = y[4], px = y[5], py = y[6], pz = y[7];
-    const double r = bl_radius(x, yy, z);
-    const double r2 = r * r, r3 = r2 * r, a2 = a * a, z2 = z * z;
-    const double s = r2 + a2, is = 1.0 / s, ir = 1.0 / r;
-    const double q = r2 * r2 + a2 * z2, iq = 1.0 / q;
-    const double f = 2.0 * M * r3 * iq;
-    const double lx = (r * x + a * yy) * is, ly = (r * yy - a * x) * is, lz = z * ir;
-    const double L = -pt + lx * px + ly * py + lz * pz;
-    const double fL = f * L;
+  template <class T>
+  WV_INLINE void rhs(const T y[8], T dy[8]) const {
+    const T x = y[1], yy = y[2], z = y[3], pt = y[4], px = y[5], py = y[6], pz = y[7];
+    const T r = bl_radius(x, yy, z);
+    const double a2 = a * a;
+    const T r2 = r * r, r3 = r2 * r, z2 = z * z;
+    const T s = r2 + a2, is = 1.0 / s, ir = 1.0 / r;
+    const T q = r2 * r2 + a2 * z2, iq = 1.0 / q;
+    const T f = 2.0 * M * r3 * iq;
+    const T lx = (r * x + a * yy) * is, ly = (r * yy - a * x) * is, lz = z * ir;
+    const T L = -pt + lx * px + ly * py + lz * pz;
+    const T fL = f * L;
     dy[0] = -pt + fL;
     dy[1] = px - fL * lx;
     dy[2] = py - fL * ly;
     dy[3] = pz - fL * lz;
-    dy[4] = 0.0;
+    dy[4] = T{};
     // derivatives of r
-    const double dr_x = x * r3 * iq, dr_y = yy * r3 * iq, dr_z = z * r * s * iq;
+    const T dr_x = x * r3 * iq, dr_y = yy * r3 * iq, dr_z = z * r * s * iq;
     // f = f(r, z): partials at fixed z and at fixed r
-    const double f_r = 2.0 * M * r2 * (3.0 * a2 * z2 - r2 * r2) * iq * iq;
-    const double f_z = -4.0 * M * a2 * r3 * z * iq * iq;
+    const T f_r = 2.0 * M * r2 * (3.0 * a2 * z2 - r2 * r2) * iq * iq;
+    const T f_z = -4.0 * M * a2 * r3 * z * iq * iq;
     // L = L(x, y, z, r): explicit partials and the partial in r
-    const double A = x * px + yy * py, B = yy * px - x * py;
-    const double L_r = A * is - 2.0 * r * (r * A + a * B) * is * is - z * pz * ir * ir;
-    const double L_x = (r * px - a * py) * is, L_y = (r * py + a * px) * is, L_z = pz * ir;
-    const double hL2 = 0.5 * L * L;
+    const T A = x * px + yy * py, B = yy * px - x * py;
+    const T L_r = A * is - 2.0 * r * (r * A + a * B) * is * is - z * pz * ir * ir;
+    const T L_x = (r * px - a * py) * is, L_y = (r * py + a * px) * is, L_z = pz * ir;
+    const T hL2 = 0.5 * L * L;
     dy[5] = hL2 * f_r * dr_x + fL * (L_x + L_r * dr_x);
     dy[6] = hL2 * f_r * dr_y + fL * (L_y + L_r * dr_y);
     dy[7] = hL2 * (f_r * dr_z + f_z) + fL * (L_z + L_r * dr_z);
@@ -96,7 +100,7 @@ struct Kerr : MetricBase<Kerr> {
   }
   double length_scale() const { return M; }
 
-  void conserved(const double y[8], double out[], double mag[]) const {
+  void conserved(const double y[8], const HamiltonianParts& hp, double out[], double mag[]) const {
     const double x = y[1], yy = y[2], z = y[3], px = y[5], py = y[6], pz = y[7];
     const double r = bl_radius(x, yy, z);
     const double E = -y[4];
@@ -108,7 +112,6 @@ struct Kerr : MetricBase<Kerr> {
     const double ptheta2_lz = c * c * (r * r + a * a) * (px * px + py * py) - 2.0 * r * c * (x * px + yy * py) * pz +
                               r * r * s2 * pz * pz;
     // Carter's constant for any mass mu^2 = -2H (0 on null rays), so it is exactly conserved by the flow.
-    const HamiltonianParts hp = hamiltonian_parts(*this, y);
     const double mu2 = -hp.two_h;
     out[3] = ptheta2_lz + a * a * c * c * (mu2 - E * E);
     if (mag) {

@@ -9,9 +9,11 @@
 //   template <class T> void inverse_metric(const T x[4], T gi[4][4]) const;
 //                                                             g^{mu nu}(x); T is double or Dual<4>
 //   double radius(const double x[4]) const;                   areal / Boyer-Lindquist radius
-//   void conserved(const double y[8], double out[], double mag[]) const;
-//                                                             conserved quantities 1..K-1 at state y
-//                                                             (out[0], H, is filled by invariants()) and,
+//   void conserved(const double y[8], const HamiltonianParts& hp, double out[], double mag[]) const;
+//                                                             conserved quantities 1..K-1 at state y, given
+//                                                             the parts of H there (hamiltonian_parts or,
+//                                                             at no cost, hamiltonian_parts_from_rhs;
+//                                                             out[0], H, is filled by invariants()) and,
 //                                                             if mag is not null, the size of the terms
 //                                                             each is computed from (its rounding scale)
 //   void invariant_scales(const double y[8], const double inv[], double scale[]) const;
@@ -129,8 +131,9 @@ struct MetricBase {
 
   // All invariants: out[0] = H, then the metric's conserved quantities.
   void invariants(const double y[8], double out[]) const {
-    out[0] = hamiltonian(self(), y);
-    self().conserved(y, out, nullptr);
+    const HamiltonianParts hp = hamiltonian_parts(self(), y);
+    out[0] = 0.5 * hp.two_h;
+    self().conserved(y, hp, out, nullptr);
   }
 
   // Outer horizon radius (0 if none); a ray whose radius drops below it is absorbed.

@@ -28,7 +28,7 @@ struct Minkowski : MetricBase<Minkowski> {
     for (int i = 4; i < 8; ++i) dy[i] = 0.0;
   }
   double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }
-  void conserved(const double y[8], double out[], double mag[]) const {
+  void conserved(const double y[8], const HamiltonianParts& /*hp*/, double out[], double mag[]) const {
     out[1] = -y[4];
     if (mag) mag[1] = std::fabs(y[4]);
   }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/registry.h"
+#include "core/simd.h"
 #include "spacetime/metric.h"
 #include "spacetime/params.h"
 
@@ -33,22 +34,24 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
   }
 
   // Hand-written Hamilton equations, H = (-p_t^2 + |p|^2) / 2 - (f / 2) L^2 with L = -p_t + x.p / r.
-  void rhs(const double y[8], double dy[8]) const {
-    const double x = y[1], yy = y[2], z = y[3], pt = y[4], px = y[5], py = y[6], pz = y[7];
-    const double r2 = x * x + yy * yy + z * z, r = std::sqrt(r2), ir = 1.0 / r;
-    const double f = 2.0 * M * ir;
-    const double xp = x * px + yy * py + z * pz;
-    const double L = -pt + xp * ir;
-    const double fL = f * L;
+  // T is double or Lanes (one ray per lane, core/simd.h).
+  template <class T>
+  WV_INLINE void rhs(const T y[8], T dy[8]) const {
+    const T x = y[1], yy = y[2], z = y[3], pt = y[4], px = y[5], py = y[6], pz = y[7];
+    const T r2 = x * x + yy * yy + z * z, r = sqrt(r2), ir = 1.0 / r;
+    const T f = 2.0 * M * ir;
+    const T xp = x * px + yy * py + z * pz;
+    const T L = -pt + xp * ir;
+    const T fL = f * L;
     dy[0] = -pt + fL;
     dy[1] = px - fL * x * ir;
     dy[2] = py - fL * yy * ir;
     dy[3] = pz - fL * z * ir;
-    dy[4] = 0.0;
+    dy[4] = T{};
     // dp_i = (L^2 / 2) d_i f + f L d_i L,  d_i f = -2M x_i / r^3,  d_i L = p_i / r - (x.p) x_i / r^3
-    const double ir3 = ir * ir * ir;
-    const double c = -M * L * L * ir3 - fL * xp * ir3;
-    const double d = fL * ir;
+    const T ir3 = ir * ir * ir;
+    const T c = -M * L * L * ir3 - fL * xp * ir3;
+    const T d = fL * ir;
     dy[5] = c * x + d * px;
     dy[6] = c * yy + d * py;
     dy[7] = c * z + d * pz;
@@ -63,7 +66,7 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
   }
   double length_scale() const { return M; }
 
-  void conserved(const double y[8], double out[], double mag[]) const {
+  void conserved(const double y[8], const HamiltonianParts& /*hp*/, double out[], double mag[]) const {
     double l[3];
     angular_momentum(y, l);
     out[1] = -y[4];

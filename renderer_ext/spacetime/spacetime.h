@@ -2,16 +2,19 @@
 // SpacetimeImpl<M>, which instantiates the integration loop for metric M and every stepper.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/parallel.h"
 #include "integrators/path_tracer.h"
 #include "spacetime/geodesic.h"
+#include "spacetime/ray_batch.h"
 #include "spacetime/steppers/dop853.h"
 #include "spacetime/steppers/dopri5.h"
 #include "spacetime/steppers/rk4.h"
@@ -26,6 +29,7 @@ struct TraceRequest {
   TraceOptions options;
   StepperKind stepper = StepperKind::kDopri5;
   int threads = 0;
+  bool batch = true;           // dopri5 rays in SIMD lanes (ray_batch.h); false: one ray at a time
   std::function<bool()> poll;  // called periodically from the calling thread; false cancels
 };
 
@@ -120,15 +124,15 @@ class SpacetimeImpl final : public Spacetime {
     out.n_steps.assign(n, 0);
     out.drift.assign(K * n, 0.0);
     std::vector<Track> tracks(req.options.record ? n : 0);
-    auto body = [&](std::size_t i) {
-      const int sheet = req.sheets ? req.sheets[i] : 1;
-      double y[8];
-      RayResult res;
+    auto setup = [&](std::size_t i, double y[8], int& sheet) {
+      sheet = req.sheets ? req.sheets[i] : 1;
       if (!initial_state(req.origins + 3 * i, req.directions + 3 * i, sheet, y)) {
         throw std::invalid_argument("ray " + std::to_string(i) + " " +
                                     origin_problem(req.origins + 3 * i, sheet));
       }
-      integrate_ray<M, S>(m_, y, sheet, req.options, res, req.options.record ? &tracks[i] : nullptr);
+    };
+    auto track_of = [&](std::size_t i) { return req.options.record ? &tracks[i] : nullptr; };
+    auto done = [&](std::size_t i, const RayResult& res) {
       out.status[i] = int8_t(res.status);
       for (int c = 0; c < 3; ++c) {
         out.final_positions[3 * i + c] = res.pos[c];
@@ -138,7 +142,30 @@ class SpacetimeImpl final : public Spacetime {
       out.n_steps[i] = res.n_steps;
       for (int k = 0; k < K; ++k) out.drift[k * n + i] = res.drift[k];
     };
-    out.completed = parallel_for(n, req.threads, 16, body, req.poll);
+    bool lanes = false;
+    if constexpr (std::is_same_v<S, Dopri5<M>> && !M::kFlat && HasLaneRhs<M>::value) {
+      if (req.batch) {
+        // Blocks of rays, each traced through the SIMD lanes on one thread.
+        constexpr std::size_t kBlock = 256;
+        const std::size_t blocks = (n + kBlock - 1) / kBlock;
+        auto block = [&](std::size_t b) {
+          trace_lanes(m_, req.options, b * kBlock, std::min(n, (b + 1) * kBlock), setup, track_of, done);
+        };
+        out.completed = parallel_for(blocks, req.threads, 1, block, req.poll);
+        lanes = true;
+      }
+    }
+    if (!lanes) {
+      auto body = [&](std::size_t i) {
+        double y[8];
+        int sheet = 1;
+        setup(i, y, sheet);
+        RayResult res;
+        integrate_ray<M, S>(m_, y, sheet, req.options, res, track_of(i));
+        done(i, res);
+      };
+      out.completed = parallel_for(n, req.threads, 16, body, req.poll);
+    }
     if (req.options.record) {
       const int C = track_columns<M>();
       out.num_columns = C;

@@ -12,20 +12,23 @@
 
 #include <cmath>
 
+#include "core/simd.h"
+
 namespace wv {
 
 enum class StepperKind : int { kRk4 = 0, kDopri5 = 1, kDop853 = 2 };
 
 // RMS of err_i / (tol + tol * max(|y_i|, |ynew_i|)) over the state, except coordinate time t (index 0),
-// which feeds back into nothing and would otherwise limit steps on long rays.
-inline double error_norm(const double err[8], const double y[8], const double ynew[8], double tol) {
-  double s = 0.0;
+// which feeds back into nothing and would otherwise limit steps on long rays. T is double or Lanes.
+template <class T>
+WV_INLINE T error_norm(const T err[8], const T y[8], const T ynew[8], double tol) {
+  T s = T{};
   for (int i = 1; i < 8; ++i) {
-    const double sc = tol * (1.0 + std::fmax(std::fabs(y[i]), std::fabs(ynew[i])));
-    const double e = err[i] / sc;
+    const T sc = tol * (1.0 + max_of(abs_of(y[i]), abs_of(ynew[i])));
+    const T e = err[i] / sc;
     s += e * e;
   }
-  return std::sqrt(s / 7.0);
+  return sqrt(s / 7.0);
 }
 
 // Cubic Hermite interpolant between (y0, f0) and (y1, f1) over a step of length h.

@@ -6,15 +6,16 @@
 
 namespace wv {
 
-template <class M>
+// T is double, or Lanes for a batch of rays (one ray per lane, each with its own step h).
+template <class M, class T = double>
 struct Dopri5 {
   static constexpr bool kAdaptive = true;
   static constexpr int kOrder = 5;  // error estimate of order 4: controller exponent 1/5
-  double k[7][8];                   // k[0] = f(y); k[6] = f(ynew) after attempt (FSAL)
+  T k[7][8];                        // k[0] = f(y); k[6] = f(ynew) after attempt (FSAL)
 
-  void init(const M& m, const double y[8]) { m.rhs(y, k[0]); }
+  void init(const M& m, const T y[8]) { m.rhs(y, k[0]); }
 
-  double attempt(const M& m, const double y[8], double h, double tol, double ynew[8]) {
+  WV_INLINE T attempt(const M& m, const T y[8], T h, double tol, T ynew[8]) {
     constexpr double a21 = 1.0 / 5;
     constexpr double a31 = 3.0 / 40, a32 = 9.0 / 40;
     constexpr double a41 = 44.0 / 45, a42 = -56.0 / 15, a43 = 32.0 / 9;
@@ -24,7 +25,7 @@ struct Dopri5 {
     constexpr double b1 = 35.0 / 384, b3 = 500.0 / 1113, b4 = 125.0 / 192, b5 = -2187.0 / 6784, b6 = 11.0 / 84;
     constexpr double e1 = 71.0 / 57600, e3 = -71.0 / 16695, e4 = 71.0 / 1920, e5 = -17253.0 / 339200,
                      e6 = 22.0 / 525, e7 = -1.0 / 40;
-    double t[8];
+    T t[8];
     for (int i = 0; i < 8; ++i) t[i] = y[i] + h * a21 * k[0][i];
     m.rhs(t, k[1]);
     for (int i = 0; i < 8; ++i) t[i] = y[i] + h * (a31 * k[0][i] + a32 * k[1][i]);
@@ -39,7 +40,7 @@ struct Dopri5 {
     for (int i = 0; i < 8; ++i)
       ynew[i] = y[i] + h * (b1 * k[0][i] + b3 * k[2][i] + b4 * k[3][i] + b5 * k[4][i] + b6 * k[5][i]);
     m.rhs(ynew, k[6]);
-    double err[8];
+    T err[8];
     for (int i = 0; i < 8; ++i)
       err[i] = h * (e1 * k[0][i] + e3 * k[2][i] + e4 * k[3][i] + e5 * k[4][i] + e6 * k[5][i] + e7 * k[6][i]);
     return error_norm(err, y, ynew, tol);
