@@ -51,6 +51,7 @@ DEFAULT_OPTIONS = {
     "max_drift": None,  # max(1e-6, 1e3 * tol)
     "chord_tolerance": 1e-3,
     "aim_lights": True,  # curved space: aim light samples with pilot geodesics (integrators/light_aim.h)
+    "pilot_tol": 1e-4,  # tolerance of those pilots (at least tol); they only aim, so it cannot bias
 }
 
 

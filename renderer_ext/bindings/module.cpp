@@ -157,12 +157,14 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.trace.max_drift = option<double>(options, "max_drift", std::max(1e-6, 1e3 * o.trace.tol));
   o.chord_tol = option<double>(options, "chord_tolerance", 1e-3);
   o.aim_lights = option<bool>(options, "aim_lights", true);
+  o.pilot_tol = option<double>(options, "pilot_tol", 1e-4);
   o.threads = option<int>(options, "threads", 0);
   const auto stepper = stepper_kind(option<std::string>(options, "stepper", "dopri5"));
   if (o.spp < 1) throw std::invalid_argument("spp must be >= 1");
   if (o.max_depth < 1) throw std::invalid_argument("max_depth must be >= 1");
   if (!(o.trace.tol > 0 && o.trace.tol < 1)) throw std::invalid_argument("tol must be in (0, 1)");
   if (!(o.chord_tol > 0)) throw std::invalid_argument("chord_tolerance must be > 0");
+  if (!(o.pilot_tol > 0 && o.pilot_tol < 1)) throw std::invalid_argument("pilot_tol must be in (0, 1)");
   if (options.contains("record_pixels") && !options["record_pixels"].is_none()) {
     nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu> rp;
     if (!nb::try_cast(options["record_pixels"], rp) || rp.ndim() != 2 || rp.shape(1) != 2)

@@ -41,6 +41,9 @@ struct RenderOptions {
   TraceOptions trace;  // tol, max_steps, escape_radius, max_drift (record is ignored)
   double chord_tol = 1e-3;
   bool aim_lights = true;  // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
+  // Local error tolerance of pilot geodesics (at least trace.tol). A pilot only decides where a light's
+  // proxy is seen from, never what a sample is worth, so its accuracy cannot bias the image.
+  double pilot_tol = 1e-4;
   int threads = 0;
   std::vector<int32_t> record_pixels;  // (x, y) pairs whose paths are recorded
   // Called from the calling thread every ~20 ms with (samples done, samples total); false cancels.
@@ -91,6 +94,9 @@ class PathTracer {
     topt_.record = false;
     topt_.backward = true;
     topt_.escape_radius = std::max(o.trace.escape_radius, 1.05 * sc.bound_radius + 1.0);
+    popt_ = topt_;
+    popt_.tol = std::max(topt_.tol, o.pilot_tol);
+    popt_.max_drift = std::max(topt_.max_drift, 1e3 * popt_.tol);
   }
 
   RenderResult render() {
@@ -436,7 +442,7 @@ class PathTracer {
     if (!backward_state(x, sheet, d, y)) return false;
     PlaneTarget<M> target{m_, c, nrm, sheet};
     RayResult res;
-    integrate_ray<M, S, PlaneTarget<M>>(m_, y, sheet, topt_, res, nullptr, &target);
+    integrate_ray<M, S, PlaneTarget<M>>(m_, y, sheet, popt_, res, nullptr, &target);
     ++st.segments;
     st.steps += res.n_steps;
     if (res.status != kHit) return false;
@@ -576,7 +582,7 @@ class PathTracer {
   const M& m_;
   const Scene& sc_;
   const RenderOptions& o_;
-  TraceOptions topt_;
+  TraceOptions topt_, popt_;  // segments, pilots
   V3 forward_, right_, up_;
   double tan_half_ = 1.0;
 };
