@@ -1,5 +1,6 @@
 """SIMD ray batches (renderer_ext/spacetime/ray_batch.h): every ray's result is bit-identical to tracing
-it alone, whatever else shares its batch, for every ending a ray can have."""
+it alone, whatever else shares its batch, for every ending a ray can have; a render whose samples'
+geodesics share the lanes is bit-identical to one that integrates each geodesic on its own."""
 
 import numpy as np
 import pytest
@@ -87,3 +88,42 @@ def test_other_steppers_ignore_batch():
         a = wv.trace(metric, [30.0, 0, 0], [[-1.0, 0.2, 0], [-1.0, 0.05, 0]], stepper=stepper, tol=1e-8)
         b = wv.trace(metric, [30.0, 0, 0], [[-1.0, 0.2, 0], [-1.0, 0.05, 0]], stepper=stepper, tol=1e-8, batch=False)
         assert_bundles_identical(a, b)
+
+
+# --- the renderer: many samples' geodesics step together in the lanes --------------------------------
+
+from native_scenes import metric as native_metric  # noqa: E402
+from native_scenes import room  # noqa: E402
+
+
+def _counts(stats: dict) -> dict:
+    return {k: v for k, v in stats.items() if k not in ("seconds", "threads")}
+
+
+def assert_images_identical(a: wv.Image, b: wv.Image):
+    np.testing.assert_array_equal(a.rgb, b.rgb)
+    assert a.aovs.keys() == b.aovs.keys()
+    for k in a.aovs:
+        np.testing.assert_array_equal(a.aovs[k], b.aovs[k], err_msg=k)
+    assert _counts(a.stats) == _counts(b.stats)
+
+
+@pytest.mark.parametrize(
+    "spec", [("schwarzschild", 2.5), ("kerr", 2.5, 0.9), ("ellis", 5.0)], ids=lambda s: s[0]
+)
+def test_render_in_lanes_equals_render_one_geodesic_at_a_time(spec):
+    """Light connection, pilots, bounces and recorded paths: the same image, AOVs, statistics and paths."""
+    scene = room(native_metric(*spec), size=(12, 9), spheres=True)
+    pixels = [[3, 4], [6, 2], [11, 8]]
+    lanes = wv.render(scene, spp=3, threads=1, record_pixels=pixels)
+    single = wv.render(scene, spp=3, threads=1, batch=False, record_pixels=pixels)
+    assert_images_identical(lanes, single)
+    assert_bundles_identical(lanes.rays, single.rays)
+    assert lanes.stats["steps"] > 0
+    assert_images_identical(lanes, wv.render(scene, spp=3, threads=2, record_pixels=pixels))
+
+
+def test_render_in_lanes_with_brute_force_and_without_aiming():
+    scene = room(native_metric("schwarzschild", 2.5), size=(10, 8))
+    for kw in ({"light_sampling": False}, {"aim_lights": False}):
+        assert_images_identical(wv.render(scene, spp=2, **kw), wv.render(scene, spp=2, batch=False, **kw))

@@ -158,6 +158,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.chord_tol = option<double>(options, "chord_tolerance", 1e-3);
   o.aim_lights = option<bool>(options, "aim_lights", true);
   o.pilot_tol = option<double>(options, "pilot_tol", 1e-4);
+  o.batch = option<bool>(options, "batch", true);
   o.threads = option<int>(options, "threads", 0);
   const auto stepper = stepper_kind(option<std::string>(options, "stepper", "dopri5"));
   if (o.spp < 1) throw std::invalid_argument("spp must be >= 1");

@@ -9,18 +9,27 @@
 // geodesic reaches first (a light, the sky, another emitter), so the weights sum to one for every
 // direction and the estimator is unbiased even though the proxy ignores bending. Russian roulette ends
 // long paths. Every random number comes from Rng(seed, pixel, sample).
+//
+// A sample is a coroutine that co_awaits each geodesic it needs. With dopri5 the geodesics of many
+// samples wait in a queue and step together in SIMD lanes (spacetime/ray_batch.h); otherwise each is
+// integrated on the spot. Samples' radiance is summed in (pixel, sample) order either way, so the image
+// is bit-identical with and without lanes and for any thread count.
 #pragma once
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <coroutine>
 #include <cstdint>
+#include <deque>
 #include <functional>
+#include <type_traits>
 #include <vector>
 
 #include "core/linalg.h"
 #include "core/parallel.h"
 #include "core/rng.h"
+#include "core/task.h"
 #include "film/film.h"
 #include "integrators/light_aim.h"
 #include "integrators/surface_hits.h"
@@ -28,7 +37,9 @@
 #include "scene/scene.h"
 #include "spacetime/frame.h"
 #include "spacetime/geodesic.h"
+#include "spacetime/ray_batch.h"
 #include "spacetime/steppers/common.h"
+#include "spacetime/steppers/dopri5.h"
 
 namespace wv {
 
@@ -41,6 +52,7 @@ struct RenderOptions {
   TraceOptions trace;  // tol, max_steps, escape_radius, max_drift (record is ignored)
   double chord_tol = 1e-3;
   bool aim_lights = true;  // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
+  bool batch = true;       // dopri5: step the geodesics of many samples together in SIMD lanes
   // Local error tolerance of pilot geodesics (at least trace.tol). A pilot only decides where a light's
   // proxy is seen from, never what a sample is worth, so its accuracy cannot bias the image.
   double pilot_tol = 1e-4;
@@ -131,21 +143,34 @@ class PathTracer {
     const std::function<bool()> poll = o_.poll ? std::function<bool()>([&]() { return o_.poll(done.load(), total); })
                                                : std::function<bool()>();
     const size_t npix = size_t(W) * H;
+    constexpr size_t kChunk = 64;  // pixels per parallel task
+    const size_t nchunks = (npix + kChunk - 1) / kChunk;
     for (const auto& pass : passes) {
-      auto body = [&](size_t pix) {
-        const int px = int(pix % W), py = int(pix / W);
+      auto body = [&](size_t c) {
+        const size_t p0 = c * kChunk, p1 = std::min(npix, p0 + kChunk);
+        const size_t ns = size_t(pass.second - pass.first), njobs = (p1 - p0) * ns;
+        std::vector<SampleOut> outs(njobs);
         Stats st;
-        for (int s = pass.first; s < pass.second; ++s) {
-          std::vector<RecordedSegment>* r = slot[pix] >= 0 ? &rec[slot[pix]] : nullptr;
-          sample_pixel(px, py, s, out.film, r, st);
+        auto make = [&](size_t k, Scheduler* sched) {
+          const size_t pix = p0 + k / ns;
+          return sample_pixel(int(pix % W), int(pix / W), pass.first + int(k % ns), out.film, outs[k],
+                              slot[pix] >= 0, st, sched);
+        };
+        run_samples(njobs, make);
+        // Summed in (pixel, sample) order, whatever order the samples finished in.
+        for (size_t k = 0; k < njobs; ++k) {
+          const size_t pix = p0 + k / ns;
+          accumulate(out.film, pix, outs[k]);
+          if (slot[pix] >= 0)
+            for (auto& seg : outs[k].rec) rec[slot[pix]].push_back(std::move(seg));
         }
-        done += pass.second - pass.first;
+        done += int64_t(njobs);
         for (int k = 0; k < 6; ++k)
           if (st.counts[k]) counts[k] += st.counts[k];
         steps += st.steps;
         segments += st.segments;
       };
-      if (!parallel_for(npix, o_.threads, 64, body, poll)) {
+      if (!parallel_for(nchunks, o_.threads, 1, body, poll)) {
         out.completed = false;
         break;
       }
@@ -164,6 +189,124 @@ class PathTracer {
     int64_t steps = 0, segments = 0;
   };
 
+  // What one sample adds to its pixel (summed later, in sample order).
+  struct SampleOut {
+    V3 L{0, 0, 0};
+    bool error = false;
+    double max_drift = 0.0;
+    int64_t steps = 0;
+    std::vector<RecordedSegment> rec;  // recorded pixels: this sample's segments
+  };
+
+  void accumulate(Film& film, size_t pix, const SampleOut& so) const {
+    for (int c = 0; c < 3; ++c) film.rgb_sum[3 * pix + c] += so.L[c];
+    film.samples[pix] += 1;
+    film.steps_sum[pix] += double(so.steps);
+    film.max_drift[pix] = std::max(film.max_drift[pix], float(so.max_drift));
+    if (so.error) film.errors[pix] += 1;
+  }
+
+  // Geodesics step in SIMD lanes for dopri5 in curved space (ray_batch.h).
+  static constexpr bool kLaned = std::is_same_v<S, Dopri5<M>> && !M::kFlat && HasLaneRhs<M>::value;
+
+  // Geodesics waiting for a lane, in the order they were asked for.
+  struct Scheduler {
+    std::deque<LaneJob<M>*> queue;
+  };
+
+  // Runs samples make(k, scheduler) for k in [0, n): with lanes, as many at once as keep the lanes busy;
+  // otherwise one after another, each geodesic integrated as soon as it is asked for.
+  template <class Make>
+  void run_samples(size_t n, const Make& make) const {
+    if constexpr (kLaned) {
+      if (o_.batch) {
+        Scheduler sched;
+        std::vector<Task<void>> running;
+        size_t next = 0;
+        auto sweep = [&]() {
+          for (size_t i = 0; i < running.size();) {
+            if (!running[i].done()) {
+              ++i;
+              continue;
+            }
+            running[i].rethrow_if_failed();
+            running[i] = std::move(running.back());
+            running.pop_back();
+          }
+        };
+        // A lane needs a geodesic: take the oldest waiting one, starting new samples until there is one.
+        auto fill = [&](int) -> LaneJob<M>* {
+          while (sched.queue.empty() && next < n) {
+            sweep();
+            Task<void> t = make(next++, &sched);
+            t.start();
+            if (t.done()) t.rethrow_if_failed();
+            else running.push_back(std::move(t));
+          }
+          if (sched.queue.empty()) return nullptr;
+          LaneJob<M>* job = sched.queue.front();
+          sched.queue.pop_front();
+          return job;
+        };
+        run_lanes(m_, fill, [](LaneJob<M>* job, int) { job->waiter.resume(); });
+        sweep();
+        return;
+      }
+    }
+    for (size_t k = 0; k < n; ++k) {
+      Task<void> t = make(k, nullptr);
+      t.start();
+      t.rethrow_if_failed();
+    }
+  }
+
+  // An awaitable that is ready at once with a value (flat space: nothing to integrate).
+  template <class T>
+  struct Ready {
+    T value;
+    bool await_ready() const noexcept { return true; }
+    void await_suspend(std::coroutine_handle<>) const noexcept {}
+    T await_resume() { return std::move(value); }
+  };
+
+  struct NoLane {};
+
+  // One geodesic to integrate, as an awaitable: queued for a lane (sched non-null) or integrated at once.
+  template <class Surf>
+  struct Geodesic {
+    const M& m;
+    Scheduler* sched;
+    double y[8];
+    int sheet;
+    const TraceOptions& o;
+    Track* track;
+    Surf surf;
+    RayResult res;
+    std::conditional_t<kLaned, LaneRay<M, Surf>, NoLane> lane;
+
+    Geodesic(const M& metric, Scheduler* s, const double y0[8], int sh, const TraceOptions& opt, Track* tr, Surf sf)
+        : m(metric), sched(s), sheet(sh), o(opt), track(tr), surf(std::move(sf)) {
+      for (int i = 0; i < 8; ++i) y[i] = y0[i];
+    }
+    Geodesic(const Geodesic&) = delete;
+    Geodesic& operator=(const Geodesic&) = delete;
+
+    bool await_ready() {
+      if constexpr (kLaned) {
+        if (sched) return !lane.start(m, y, sheet, o, res, track, &surf);
+      }
+      integrate_ray<M, S, Surf>(m, y, sheet, o, res, track, &surf);
+      return true;
+    }
+    void await_suspend(std::coroutine_handle<> h) {
+      if constexpr (kLaned) {
+        lane.waiter = h;
+        sched->queue.push_back(&lane);
+      }
+    }
+    RayResult await_resume() const { return res; }
+  };
+
   void setup_camera() {
     const Camera& c = sc_.camera;
     double x4[4];
@@ -178,6 +321,7 @@ class PathTracer {
     if (!(length(right_) > 0.5)) throw std::invalid_argument("camera up is parallel to the viewing direction");
     up_ = cross(right_, forward_);
     tan_half_ = std::tan(0.5 * c.fov * M_PI / 180.0);
+    camera_start_ = start_frame(c.position, c.sheet);
   }
 
   // Map from a user-frame displacement at chart point x4 to the local observer frame: q_a = g(e_a, v),
@@ -236,74 +380,125 @@ class PathTracer {
       }
   }
 
+  // The chart point and observer frame where segments start, kept for the next segments from the same
+  // point: every segment leaving one side of a vertex (bounce, light connection, pilots) starts at the
+  // same offset point, and every camera ray at the camera.
+  struct StartFrames {
+    struct Entry {
+      V3 pos;
+      int sheet = 0;
+      bool ok = false;  // the point is in the chart, outside the horizon, with an observer
+      double x4[4];
+      ObserverFrame f;
+    };
+    static constexpr int kSize = 2;
+    Entry e[kSize];
+    int n = 0, next = 0;
+  };
+
+  typename StartFrames::Entry start_frame(V3 x, int sheet) const {
+    typename StartFrames::Entry s;
+    s.pos = x;
+    s.sheet = sheet;
+    s.ok = m_.user_to_chart(&x.x, sheet, s.x4) && observer_frame(m_, s.x4, s.f) && !m_.absorbed(s.x4);
+    return s;
+  }
+
   // State of a ray traced backwards from user-frame point x along local direction d: the future-directed
   // momentum of light arriving there along d, negated. False on or inside a horizon.
-  bool backward_state(V3 x, int sheet, V3 d, double y[8]) const {
+  bool backward_state(V3 x, int sheet, V3 d, double y[8], StartFrames& frames) const {
+    const typename StartFrames::Entry* s = nullptr;
+    for (int i = 0; i < frames.n && !s; ++i)
+      if (frames.e[i].pos.x == x.x && frames.e[i].pos.y == x.y && frames.e[i].pos.z == x.z && frames.e[i].sheet == sheet)
+        s = &frames.e[i];
+    if (!s) {
+      const int slot = frames.next;
+      frames.e[slot] = start_frame(x, sheet);
+      frames.next = (slot + 1) % StartFrames::kSize;
+      frames.n = std::max(frames.n, slot + 1);
+      s = &frames.e[slot];
+    }
+    if (!s->ok) return false;
     const double minus_d[3] = {-d.x, -d.y, -d.z};
-    if (!photon_state(m_, &x.x, minus_d, sheet, y) || m_.absorbed(y)) return false;
+    for (int i = 0; i < 4; ++i) y[i] = s->x4[i];
+    frame_to_momentum(s->f, minus_d, y + 4);
     for (int i = 4; i < 8; ++i) y[i] = -y[i];
     return true;
   }
 
-  // Traces one geodesic segment from user-frame point x on `sheet` along local direction d.
-  SegmentEnd segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st) const {
+  // The geodesic segment from user-frame point x on `sheet` along local direction d, as an awaitable:
+  // ready at once in flat space, a coroutine waiting for its geodesic in curved space.
+  auto segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st, StartFrames& frames, Scheduler* sched) const {
+    if constexpr (M::kFlat) {
+      (void)frames;
+      (void)sched;
+      return Ready<SegmentEnd>{flat_segment(x, sheet, d, skip, track, st)};
+    } else {
+      return curved_segment(x, sheet, d, skip, track, st, frames, sched);
+    }
+  }
+
+  SegmentEnd flat_segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st) const {
     SegmentEnd e;
     const double skip_dist = 1e-4 * (1.0 + length(x));
     ++st.segments;
-    if constexpr (M::kFlat) {
-      SegmentHit hit;
-      e.sheet = sheet;
-      if (sc_.closest_hit(x, d, 0.0, 1e300, sheet, skip, skip_dist, hit)) {
-        e.status = kHit;
-        e.prim = hit.prim;
-        e.pos = x + d * hit.t;
-        e.dir = d;
-        e.surface = sc_.surface(hit.prim, e.pos);
-        e.normal_local = e.surface.normal;
-      } else {
-        e.status = kEscaped;
-        e.dir = d;
-        e.pos = x + d * topt_.escape_radius;
-      }
-      if (track) flat_track(x, e.pos, sheet, *track);
-      ++st.counts[e.status];
-      return e;
+    SegmentHit hit;
+    e.sheet = sheet;
+    if (sc_.closest_hit(x, d, 0.0, 1e300, sheet, skip, skip_dist, hit)) {
+      e.status = kHit;
+      e.prim = hit.prim;
+      e.pos = x + d * hit.t;
+      e.dir = d;
+      e.surface = sc_.surface(hit.prim, e.pos);
+      e.normal_local = e.surface.normal;
     } else {
-      double y[8];
-      if (!backward_state(x, sheet, d, y)) {
-        e.status = kHorizon;  // started on or inside the horizon (a surface grazing it)
-        ++st.counts[e.status];
-        return e;
-      }
-      SceneSurfaces<M> surf(m_, sc_, o_.chord_tol, skip, skip_dist);
-      RayResult res;
-      integrate_ray<M, S, SceneSurfaces<M>>(m_, y, sheet, topt_, res, track, &surf);
-      e.status = res.status;
-      e.prim = res.prim;
-      e.pos = V3(res.pos);
-      e.sheet = res.sheet;
-      e.steps = res.n_steps;
-      for (int k = 0; k < M::kNumInvariants; ++k) e.drift = std::max(e.drift, res.drift[k]);
-      st.steps += res.n_steps;
-      ++st.counts[e.status];
-      if (e.status == kEscaped) {
-        e.dir = V3(res.dir);
-        e.energy = res.y[4];  // p_t of the backward ray = energy measured at rest at infinity
-      } else if (e.status == kHit) {
-        if (!observer_frame(m_, res.y, e.frame)) {
-          e.status = kHorizon;
-          return e;
-        }
-        double n[3];
-        e.energy = -momentum_to_frame(e.frame, res.y + 4, n);
-        for (int i = 0; i < 8; ++i) e.y[i] = res.y[i];
-        e.dir = V3(n);
-        e.surface = sc_.surface(e.prim, e.pos);
-        e.normal_local = local_normal(res.y, e.frame, e.surface.normal);
-        e.to_local = local_map(res.y, e.frame);
-      }
-      return e;
+      e.status = kEscaped;
+      e.dir = d;
+      e.pos = x + d * topt_.escape_radius;
     }
+    if (track) flat_track(x, e.pos, sheet, *track);
+    ++st.counts[e.status];
+    return e;
+  }
+
+  Task<SegmentEnd> curved_segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st, StartFrames& frames,
+                                  Scheduler* sched) const {
+    SegmentEnd e;
+    const double skip_dist = 1e-4 * (1.0 + length(x));
+    ++st.segments;
+    double y[8];
+    if (!backward_state(x, sheet, d, y, frames)) {
+      e.status = kHorizon;  // started on or inside the horizon (a surface grazing it)
+      ++st.counts[e.status];
+      co_return e;
+    }
+    const RayResult res = co_await Geodesic<SceneSurfaces<M>>(
+        m_, sched, y, sheet, topt_, track, SceneSurfaces<M>(m_, sc_, o_.chord_tol, skip, skip_dist));
+    e.status = res.status;
+    e.prim = res.prim;
+    e.pos = V3(res.pos);
+    e.sheet = res.sheet;
+    e.steps = res.n_steps;
+    for (int k = 0; k < M::kNumInvariants; ++k) e.drift = std::max(e.drift, res.drift[k]);
+    st.steps += res.n_steps;
+    ++st.counts[e.status];
+    if (e.status == kEscaped) {
+      e.dir = V3(res.dir);
+      e.energy = res.y[4];  // p_t of the backward ray = energy measured at rest at infinity
+    } else if (e.status == kHit) {
+      if (!observer_frame(m_, res.y, e.frame)) {
+        e.status = kHorizon;
+        co_return e;
+      }
+      double n[3];
+      e.energy = -momentum_to_frame(e.frame, res.y + 4, n);
+      for (int i = 0; i < 8; ++i) e.y[i] = res.y[i];
+      e.dir = V3(n);
+      e.surface = sc_.surface(e.prim, e.pos);
+      e.normal_local = local_normal(res.y, e.frame, e.surface.normal);
+      e.to_local = local_map(res.y, e.frame);
+    }
+    co_return e;
   }
 
   void flat_track(V3 a, V3 b, int sheet, Track& t) const {
@@ -400,54 +595,59 @@ class PathTracer {
     }
   }
 
-  // Pilot geodesics from vertex e towards each light (curved space only).
-  Aim aim(const SegmentEnd& e, V3 n_user, V3 wo, Stats& st) const {
-    Aim a;
-    a.pos = e.pos;
-    for (int i = 0; i < kAimedLights; ++i) a.from[i] = e.pos;
+  // Where each light's proxy is seen from at vertex e, as an awaitable: pilot geodesics towards the
+  // lights in curved space, none in flat space.
+  auto aim(const SegmentEnd& e, V3 n_user, V3 wo, Stats& st, StartFrames& frames, Scheduler* sched) const {
     if constexpr (M::kFlat) {
       (void)n_user;
       (void)wo;
       (void)st;
-      return a;
+      (void)frames;
+      (void)sched;
+      return Ready<Aim>{unaimed(e)};
     } else {
-      if (!o_.aim_lights) return a;
-      const int n = std::min<int>(kAimedLights, int(sc_.lights.size()));
-      for (int i = 0; i < n; ++i) {
-        const int p = sc_.lights[i];
-        if (sc_.prims[p].sheet != e.sheet) continue;
-        V3 c, nrm;
-        light_target(p, e.pos, c, nrm);
-        // Fixed-point iteration on the aim point: aim where the last pilot's miss says to.
-        V3 target = c;
-        for (int it = 0; it < kPilots; ++it) {
-          const V3 w0 = normalize(e.to_local(target - e.pos));
-          if (dot(w0, e.normal_local) * dot(wo, e.normal_local) <= 0.0) break;  // behind the surface
-          V3 hit;
-          if (!pilot(offset(e.pos, n_user, e.normal_local, w0), e.sheet, w0, c, nrm, hit, st)) break;
-          V3 miss = hit - c;
-          miss = miss - nrm * dot(miss, nrm);
-          if (!finite(miss) || length(miss) > 2.0 * length(c - e.pos)) break;
-          target = target - miss;
-          a.from[i] = e.pos + (c - target);
-        }
-      }
-      return a;
+      return pilots(e, n_user, wo, st, frames, sched);
     }
   }
 
-  // Traces a pilot from x along local direction d to the plane (c, nrm); false if it never gets there.
-  bool pilot(V3 x, int sheet, V3 d, V3 c, V3 nrm, V3& hit, Stats& st) const {
-    double y[8];
-    if (!backward_state(x, sheet, d, y)) return false;
-    PlaneTarget<M> target{m_, c, nrm, sheet};
-    RayResult res;
-    integrate_ray<M, S, PlaneTarget<M>>(m_, y, sheet, popt_, res, nullptr, &target);
-    ++st.segments;
-    st.steps += res.n_steps;
-    if (res.status != kHit) return false;
-    hit = V3(res.pos);
-    return true;
+  static Aim unaimed(const SegmentEnd& e) {
+    Aim a;
+    a.pos = e.pos;
+    for (int i = 0; i < kAimedLights; ++i) a.from[i] = e.pos;
+    return a;
+  }
+
+  // Pilot geodesics from vertex e towards each light, each traced from just off the surface to the
+  // light's plane (c, nrm); the proxy is shifted by where they miss.
+  Task<Aim> pilots(const SegmentEnd& e, V3 n_user, V3 wo, Stats& st, StartFrames& frames, Scheduler* sched) const {
+    Aim a = unaimed(e);
+    if (!o_.aim_lights) co_return a;
+    const int n = std::min<int>(kAimedLights, int(sc_.lights.size()));
+    for (int i = 0; i < n; ++i) {
+      const int p = sc_.lights[i];
+      if (sc_.prims[p].sheet != e.sheet) continue;
+      V3 c, nrm;
+      light_target(p, e.pos, c, nrm);
+      // Fixed-point iteration on the aim point: aim where the last pilot's miss says to.
+      V3 target = c;
+      for (int it = 0; it < kPilots; ++it) {
+        const V3 w0 = normalize(e.to_local(target - e.pos));
+        if (dot(w0, e.normal_local) * dot(wo, e.normal_local) <= 0.0) break;  // behind the surface
+        double y[8];
+        if (!backward_state(offset(e.pos, n_user, e.normal_local, w0), e.sheet, w0, y, frames)) break;
+        const RayResult res = co_await Geodesic<PlaneTarget<M>>(m_, sched, y, e.sheet, popt_, nullptr,
+                                                                PlaneTarget<M>{m_, c, nrm, e.sheet});
+        ++st.segments;
+        st.steps += res.n_steps;
+        if (res.status != kHit) break;
+        V3 miss = V3(res.pos) - c;
+        miss = miss - nrm * dot(miss, nrm);
+        if (!finite(miss) || length(miss) > 2.0 * length(c - e.pos)) break;
+        target = target - miss;
+        a.from[i] = e.pos + (c - target);
+      }
+    }
+    co_return a;
   }
 
   // Mixture pdf of the light strategy for local direction w at a vertex on `sheet`.
@@ -466,7 +666,14 @@ class PathTracer {
     return pos + n_user * (dot(w, n_local) >= 0.0 ? eps : -eps);
   }
 
-  void sample_pixel(int px, int py, int s, Film& film, std::vector<RecordedSegment>* rec, Stats& st) const {
+  // One sample of pixel (px, py): a light path traced back from the camera. Writes the first-hit AOVs to
+  // the film (sample 0) and what it adds to the pixel to `out`.
+  Task<void> sample_pixel(int px, int py, int s, Film& film, SampleOut& out, bool recorded, Stats& st,
+                          Scheduler* sched) const {
+    std::vector<RecordedSegment>* rec = recorded ? &out.rec : nullptr;
+    StartFrames frames;  // starts of this path's segments, the camera's first
+    frames.e[0] = camera_start_;
+    frames.n = frames.next = 1;
     const Camera& cam = sc_.camera;
     const size_t pix = size_t(py) * cam.width + px;
     Rng rng(o_.seed, pix, uint64_t(s));
@@ -481,13 +688,13 @@ class PathTracer {
     bool error = false;
     double max_drift = 0.0;
     int64_t steps = 0;
-    auto trace = [&](V3 from, int sh, V3 dir, int skp, int bounce, int8_t kind) {
-      Track* tr = nullptr;
-      if (rec) {
-        rec->emplace_back();
-        tr = &rec->back().track;
-      }
-      SegmentEnd e = segment(from, sh, dir, skp, tr, st);
+    // Recording and bookkeeping around each segment.
+    auto open = [&]() -> Track* {
+      if (!rec) return nullptr;
+      rec->emplace_back();
+      return &rec->back().track;
+    };
+    auto close = [&](const SegmentEnd& e, int sh, int bounce, int8_t kind) {
       if (rec) {
         RecordedSegment& r = rec->back();
         r.px = px;
@@ -501,11 +708,12 @@ class PathTracer {
       steps += e.steps;
       max_drift = std::max(max_drift, e.drift);
       if (e.status >= kMaxSteps) error = true;
-      return e;
     };
 
     for (int bounce = 0; bounce < o_.max_depth; ++bounce) {
-      const SegmentEnd e = trace(x, sheet, d, skip, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
+      Track* track = open();
+      const SegmentEnd e = co_await segment(x, sheet, d, skip, track, st, frames, sched);
+      close(e, sheet, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
       if (bounce == 0 && s == 0) {
         film.status[pix] = float(e.status);
         double g = (e.status == kHit || e.status == kEscaped) && e.energy > 0.0 ? 1.0 / e.energy : 0.0;
@@ -528,7 +736,7 @@ class PathTracer {
       if (nee) {
         // Light strategy: a direction from the (pilot-aimed) flat-space proxy of one light, traced as a
         // geodesic.
-        aimed = aim(e, sp.normal, wo, st);
+        aimed = co_await aim(e, sp.normal, wo, st, frames, sched);
         const int li = std::min(int(sc_.lights.size()) - 1, int(rng.uniform() * sc_.lights.size()));
         const double u1 = rng.uniform(), u2 = rng.uniform();
         V3 wl;
@@ -540,8 +748,10 @@ class PathTracer {
           const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
           const double pl = lights_pdf(aimed, e.sheet, e.to_local, wl);
           if (max_component(f) > 0.0 && pl > 0.0) {
+            Track* light_track = open();
             const SegmentEnd le =
-                trace(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, bounce + 1, kLightSegment);
+                co_await segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched);
+            close(le, e.sheet, bounce + 1, kLightSegment);
             L += beta * f * emission(le) / (pl + pb);
           }
         }
@@ -572,17 +782,17 @@ class PathTracer {
       L = {0, 0, 0};
       error = true;
     }
-    for (int c = 0; c < 3; ++c) film.rgb_sum[3 * pix + c] += L[c];
-    film.samples[pix] += 1;
-    film.steps_sum[pix] += double(steps);
-    film.max_drift[pix] = std::max(film.max_drift[pix], float(max_drift));
-    if (error) film.errors[pix] += 1;
+    out.L = L;
+    out.error = error;
+    out.steps = steps;
+    out.max_drift = max_drift;
   }
 
   const M& m_;
   const Scene& sc_;
   const RenderOptions& o_;
   TraceOptions topt_, popt_;  // segments, pilots
+  typename StartFrames::Entry camera_start_;
   V3 forward_, right_, up_;
   double tan_half_ = 1.0;
 };

@@ -9,6 +9,7 @@
 // (tests/test_batch.py), whatever the other lanes hold, the thread count or the instruction set.
 #pragma once
 
+#include <coroutine>
 #include <cstddef>
 #include <type_traits>
 #include <utility>
@@ -29,12 +30,13 @@ struct HasLaneRhs<M, std::void_t<decltype(std::declval<const M&>().rhs(std::decl
 
 // One trial step of every lane; compiled for AVX-512, AVX2 and baseline x86-64 (chosen at load time).
 template <class M>
-WV_LANE_CLONES void dopri5_lanes_attempt(const M& m, Dopri5<M, Lanes>& st, const Lanes* y, const Lanes* h, double tol,
-                                         Lanes* ynew, Lanes* err) {
-  *err = st.attempt(m, y, *h, tol, ynew);
+WV_LANE_CLONES void dopri5_lanes_attempt(const M& m, Dopri5<M, Lanes>& st, const Lanes* y, const Lanes* h,
+                                         const Lanes* tol, Lanes* ynew, Lanes* err) {
+  *err = st.attempt(m, y, *h, *tol, ynew);
 }
 
-// One lane of a batch stepper seen as a scalar stepper (the interface of steppers/common.h).
+// One lane of a batch stepper seen as a scalar stepper (the interface of steppers/common.h). Dense output
+// and partial steps use a scalar copy of the lane's stages, gathered once per batch step.
 template <class M>
 struct Dopri5Lane {
   static constexpr bool kAdaptive = Dopri5<M>::kAdaptive;
@@ -42,11 +44,16 @@ struct Dopri5Lane {
   Dopri5<M, Lanes>* batch = nullptr;
   int lane = 0;
   double knew[8];
+  mutable Dopri5<M> cache;     // the lane's stages, valid while `cached`
+  mutable bool cached = false;
 
+  // The batch stepper has made a new trial step.
+  void invalidate() { cached = false; }
   void init(const M& m, const double y[8]) {
     double k0[8];
     m.rhs(y, k0);
     for (int i = 0; i < 8; ++i) batch->k[0][i][lane] = k0[i];
+    cached = false;
   }
   const double* derivative_new() {
     for (int i = 0; i < 8; ++i) knew[i] = batch->k[6][i][lane];
@@ -54,92 +61,139 @@ struct Dopri5Lane {
   }
   void accept() {
     for (int i = 0; i < 8; ++i) batch->k[0][i][lane] = batch->k[6][i][lane];
+    cached = false;
   }
-  Dopri5<M> gather() const {
-    Dopri5<M> s;
-    for (int j = 0; j < 7; ++j)
-      for (int i = 0; i < 8; ++i) s.k[j][i] = batch->k[j][i][lane];
-    return s;
+  const Dopri5<M>& scalar() const {
+    if (!cached) {
+      for (int j = 0; j < 7; ++j)
+        for (int i = 0; i < 8; ++i) cache.k[j][i] = batch->k[j][i][lane];
+      cached = true;
+    }
+    return cache;
   }
   void dense(const double y[8], const double ynew[8], double h, double theta, double out[8]) const {
-    gather().dense(y, ynew, h, theta, out);
+    scalar().dense(y, ynew, h, theta, out);
   }
   // A partial step (to a crossing) overwrites the lane's stages, as it does a scalar stepper's.
   double attempt(const M& m, const double y[8], double h, double tol, double ynew[8]) {
-    Dopri5<M> s = gather();
-    const double e = s.attempt(m, y, h, tol, ynew);
+    scalar();
+    const double e = cache.attempt(m, y, h, tol, ynew);
     for (int j = 0; j < 7; ++j)
-      for (int i = 0; i < 8; ++i) batch->k[j][i][lane] = s.k[j][i];
+      for (int i = 0; i < 8; ++i) batch->k[j][i][lane] = cache.k[j][i];
     return e;
   }
 };
 
-// Traces rays [first, last) through kLanes lanes with dopri5. setup(i, y, sheet) writes ray i's initial
-// chart state and sheet (it may throw), track_of(i) is its Track or nullptr, done(i, result) takes
-// each finished ray.
-template <class M, class Setup, class TrackOf, class Done>
-void trace_lanes(const M& m, const TraceOptions& o, std::size_t first, std::size_t last, const Setup& setup,
-                 const TrackOf& track_of, const Done& done) {
-  using Ray = GeodesicRay<M, Dopri5Lane<M>>;
+// A ray that needs stepping, as the lanes see it: any GeodesicRay (of any surface set) behind one
+// interface, plus whoever waits for it (a path tracer's coroutine).
+template <class M>
+struct LaneJob {
+  virtual ~LaneJob() = default;
+  // advance() then next() of the ray: false when it has ended.
+  virtual bool step(Dopri5Lane<M>& st, double err, const double ynew[8]) = 0;
+  double* y = nullptr;  // the ray's state to step from
+  double* h = nullptr;  // the step to attempt
+  double tol = 1e-9;    // its error tolerance
+  std::coroutine_handle<> waiter;
+};
+
+template <class M, class Surf = NoSurfaces>
+struct LaneRay final : LaneJob<M> {
+  GeodesicRay<M, Dopri5Lane<M>, Surf> ray;
+  // Sets the ray up (GeodesicRay::begin and the first next()); false if it has ended already.
+  bool start(const M& m, const double y0[8], int sheet, const TraceOptions& o, RayResult& res, Track* track,
+             Surf* surfaces = nullptr) {
+    this->y = ray.y;
+    this->h = &ray.h;
+    this->tol = o.tol;
+    return ray.begin(m, y0, sheet, o, res, track, surfaces) && ray.next();
+  }
+  bool step(Dopri5Lane<M>& st, double err, const double ynew[8]) override {
+    return ray.advance(st, err, ynew) && ray.next();
+  }
+};
+
+// The lane engine: steps kLanes jobs (each with its own step and tolerance) at a time with dopri5 until
+// fill(lane) has no more. fill(l) returns
+// the next job (already started) for lane l or nullptr; done(job, l) is told when a job's ray has ended
+// (and may make new jobs for fill to hand out).
+template <class M, class Fill, class Done>
+void run_lanes(const M& m, const Fill& fill, const Done& done) {
   Dopri5<M, Lanes> st;
-  Lanes y[8], h, ynew[8], err;
-  Ray ray[kLanes];
-  RayResult res[kLanes];
+  Lanes y[8], h, tol, ynew[8], err;
   Dopri5Lane<M> view[kLanes];
-  std::size_t id[kLanes];
-  bool active[kLanes];
-  std::size_t next = first;
+  LaneJob<M>* job[kLanes];
+  int n_active = 0;
+  auto refill = [&](int l) {
+    job[l] = fill(l);
+    if (job[l]) view[l].init(m, job[l]->y);
+    return job[l] != nullptr;
+  };
   for (int l = 0; l < kLanes; ++l) {
     view[l].batch = &st;
     view[l].lane = l;
+    n_active += refill(l) ? 1 : 0;
   }
-  // Puts the next ray that needs stepping into lane l; false when the block has none left.
-  auto fill = [&](int l) {
+  while (n_active > 0) {
+    int some = 0;
+    for (int l = 0; l < kLanes; ++l)
+      if (job[l]) {
+        some = l;
+        for (int i = 0; i < 8; ++i) y[i][l] = job[l]->y[i];
+        h[l] = *job[l]->h;
+        tol[l] = job[l]->tol;
+      }
+    // Idle lanes repeat an active one, so they compute on sane numbers; their results are ignored.
+    for (int l = 0; l < kLanes; ++l)
+      if (!job[l]) {
+        for (int i = 0; i < 8; ++i) {
+          y[i][l] = y[i][some];
+          st.k[0][i][l] = st.k[0][i][some];
+        }
+        h[l] = h[some];
+        tol[l] = tol[some];
+      }
+    dopri5_lanes_attempt(m, st, y, &h, &tol, ynew, &err);
+    for (int l = 0; l < kLanes; ++l) view[l].invalidate();
+    for (int l = 0; l < kLanes; ++l) {
+      if (!job[l]) continue;
+      double yn[8];
+      for (int i = 0; i < 8; ++i) yn[i] = ynew[i][l];
+      if (job[l]->step(view[l], err[l], yn)) continue;
+      done(job[l], l);
+      if (!refill(l)) --n_active;
+    }
+    // Jobs made by done() may wait while lanes sit idle: give them the idle lanes.
+    for (int l = 0; l < kLanes; ++l)
+      if (!job[l] && refill(l)) ++n_active;
+  }
+}
+
+// Traces rays [first, last) through the lanes. setup(i, y, sheet) writes ray i's initial chart state
+// and sheet (it may throw), track_of(i) is its Track or nullptr, done(i, result) takes each finished ray.
+template <class M, class Setup, class TrackOf, class Done>
+void trace_lanes(const M& m, const TraceOptions& o, std::size_t first, std::size_t last, const Setup& setup,
+                 const TrackOf& track_of, const Done& done) {
+  LaneRay<M> ray[kLanes];
+  RayResult res[kLanes];
+  std::size_t id[kLanes];
+  std::size_t next = first;
+  auto fill = [&](int l) -> LaneJob<M>* {
     while (next < last) {
       const std::size_t i = next++;
       double y0[8];
       int sheet = 1;
       setup(i, y0, sheet);
       res[l] = RayResult();
-      if (ray[l].begin(m, y0, sheet, o, res[l], track_of(i)) && ray[l].next()) {
+      if (ray[l].start(m, y0, sheet, o, res[l], track_of(i))) {
         id[l] = i;
-        view[l].init(m, ray[l].y);
-        return true;
+        return &ray[l];
       }
       done(i, res[l]);
     }
-    return false;
+    return nullptr;
   };
-  int n_active = 0;
-  for (int l = 0; l < kLanes; ++l) n_active += (active[l] = fill(l)) ? 1 : 0;
-  while (n_active > 0) {
-    int some = 0;
-    for (int l = 0; l < kLanes; ++l)
-      if (active[l]) {
-        some = l;
-        for (int i = 0; i < 8; ++i) y[i][l] = ray[l].y[i];
-        h[l] = ray[l].h;
-      }
-    // Idle lanes repeat an active one, so they compute on sane numbers; their results are ignored.
-    for (int l = 0; l < kLanes; ++l)
-      if (!active[l]) {
-        for (int i = 0; i < 8; ++i) {
-          y[i][l] = y[i][some];
-          st.k[0][i][l] = st.k[0][i][some];
-        }
-        h[l] = h[some];
-      }
-    dopri5_lanes_attempt(m, st, y, &h, o.tol, ynew, &err);
-    for (int l = 0; l < kLanes; ++l) {
-      if (!active[l]) continue;
-      double yn[8];
-      for (int i = 0; i < 8; ++i) yn[i] = ynew[i][l];
-      if (ray[l].advance(view[l], err[l], yn) && ray[l].next()) continue;
-      done(id[l], res[l]);
-      active[l] = fill(l);
-      if (!active[l]) --n_active;
-    }
-  }
+  run_lanes(m, fill, [&](LaneJob<M>*, int l) { done(id[l], res[l]); });
 }
 
 }  // namespace wv

@@ -21,7 +21,7 @@ enum class StepperKind : int { kRk4 = 0, kDopri5 = 1, kDop853 = 2 };
 // RMS of err_i / (tol + tol * max(|y_i|, |ynew_i|)) over the state, except coordinate time t (index 0),
 // which feeds back into nothing and would otherwise limit steps on long rays. T is double or Lanes.
 template <class T>
-WV_INLINE T error_norm(const T err[8], const T y[8], const T ynew[8], double tol) {
+WV_INLINE T error_norm(const T err[8], const T y[8], const T ynew[8], T tol) {
   T s = T{};
   for (int i = 1; i < 8; ++i) {
     const T sc = tol * (1.0 + max_of(abs_of(y[i]), abs_of(ynew[i])));

@@ -15,7 +15,7 @@ struct Dopri5 {
 
   void init(const M& m, const T y[8]) { m.rhs(y, k[0]); }
 
-  WV_INLINE T attempt(const M& m, const T y[8], T h, double tol, T ynew[8]) {
+  WV_INLINE T attempt(const M& m, const T y[8], T h, T tol, T ynew[8]) {
     constexpr double a21 = 1.0 / 5;
     constexpr double a31 = 3.0 / 40, a32 = 9.0 / 40;
     constexpr double a41 = 44.0 / 45, a42 = -56.0 / 15, a43 = 32.0 / 9;
