@@ -7,7 +7,10 @@ without it on the same work.
   data are only built when asked);
 * the light connection's pilot geodesics (``aim_lights``) in the curved room;
 * the far-field tail of escaped rays: the integration stops at R = (10 M^2 b / tol)^(1/3) and the rest of
-  the bending comes from a 16-point Born-approximation quadrature, against integrating out to 1e6 M.
+  the bending comes from a 16-point Born-approximation quadrature, against integrating out to 1e6 M;
+* conserved quantities other than H checked every 4th step at tol >= 1e-8 (Kerr plane) against every step;
+* pilot geodesics traced at ``pilot_tol`` = 1e-4 against the render tolerance (they only aim light
+  samples, so their accuracy cannot bias the image).
 
 Usage: ``python benchmarks/bench_skips.py [--quick] [--out DIR]``; writes ``skips.csv`` into ``--out``
 (default ``benchmarks/results``) and prints the table.
@@ -77,6 +80,17 @@ def main(argv: list[str] | None = None) -> int:
     _, t_long, _ = timed(lambda: wv.trace(bh, [-1000.0, 0, 0], dirs, tol=1e-8, threads=1, escape_radius=1e6))
     add("far-field Born tail instead of integrating to 1e6 M", len(dirs) / t_long, len(dirs) / t_tail,
         "geodesics/s", t_long, t_tail, f"{int((far.status_names == 'escaped').sum())} escaped rays")
+
+    kerr = wv.Kerr(mass=1.0, spin=0.9)
+    _, t_every, _ = timed(lambda: wv.trace(kerr, [-1000.0, 0, 0], dirs, tol=1e-8, threads=1, monitor_every=1))
+    _, t_fourth, _ = timed(lambda: wv.trace(kerr, [-1000.0, 0, 0], dirs, tol=1e-8, threads=1))
+    add("Kerr: conserved quantities checked every 4th step", len(dirs) / t_every, len(dirs) / t_fourth,
+        "geodesics/s", t_every, t_fourth, "H still every step; tol 1e-8")
+
+    render_tol = 1e-7
+    _, t_exact_pilots, _ = timed(lambda: wv.render(room, spp=spp, threads=1, pilot_tol=render_tol))
+    add("pilots at tol 1e-4 instead of the render's 1e-7", samples / t_exact_pilots, samples / t_aim, "samples/s",
+        t_exact_pilots, t_aim, "the share of light samples reaching the lamp is unchanged")
 
     print(machine_line(threads=1))
     print(f"{'shortcut':52s} {'without':>12s} {'with':>12s} {'unit':>12s} {'speed-up':>9s}")

@@ -77,6 +77,7 @@ def render(
     stepper: str | None = None,
     tol: float | None = None,
     aim_lights: bool | None = None,
+    pilot_tol: float | None = None,
     batch: bool | None = None,
     progress: Callable[[int, int], object] | None = None,
     record_pixels=None,
@@ -112,6 +113,10 @@ def render(
     aim_lights : bool, optional, keyword-only
         In curved space, aim the light connection with two pilot geodesics per light and vertex so the
         sampled directions land on the lights despite bending (default True). Unbiased either way.
+    pilot_tol : float, optional, keyword-only
+        Integration tolerance of those pilot geodesics (default 1e-4; never tighter than ``tol`` is
+        needed). They only decide where light samples are aimed, so their accuracy changes the noise,
+        never the expected image.
     batch : bool, optional, keyword-only
         With ``dopri5`` in curved space, step the geodesics of many samples together in SIMD lanes
         (default True, several times faster). The image is bit-identical either way.
@@ -134,7 +139,8 @@ def render(
     """
     native, options, source = _resolve(scene, flat=flat, width=width, height=height, paper=paper)
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
-                 "stepper": stepper, "tol": tol, "aim_lights": aim_lights, "batch": batch}  # fmt: skip
+                 "stepper": stepper, "tol": tol, "aim_lights": aim_lights, "pilot_tol": pilot_tol,
+                 "batch": batch}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:
             options[key] = value

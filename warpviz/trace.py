@@ -50,6 +50,7 @@ def trace(
     rk4_step: float = 1.0,
     threads: int = 0,
     batch: bool = True,
+    monitor_every: int | None = None,
 ) -> RayBundle:
     """Trace null geodesics (light rays) forward from ``origins`` along ``directions``.
 
@@ -97,6 +98,10 @@ def trace(
         ``dopri5`` only: step rays together in SIMD batches of eight (several times faster). Each
         ray's result is bit-identical to tracing it alone (``batch=False``), which is kept for
         comparison and benchmarks.
+    monitor_every : int, optional, keyword-only
+        Accepted steps between evaluations of the conserved quantities other than H, whose error is
+        checked every step at no cost; crossings and ray ends are always checked. Default: every
+        step when recording or at ``tol < 1e-8``, otherwise every 4th.
 
     Returns
     -------
@@ -128,6 +133,8 @@ def trace(
     threads = int(_number("threads", threads, lo=-1, hi=4096, integer=True))
     max_drift = max(1e-6, 1e3 * tol) if max_drift is None else float(_number("max_drift", max_drift, lo=0.0))
     rk4_step = float(_number("rk4_step", rk4_step, lo=0.0))
+    if monitor_every is not None:
+        monitor_every = int(_number("monitor_every", monitor_every, lo=0, hi=2**30, integer=True))
 
     origins = _rows("origins", origins)
     directions = _rows("directions", directions)
@@ -168,6 +175,7 @@ def trace(
     raw = core.trace(
         metric.name, metric.param_values, origins, directions, sheets_arr, tol, stepper, max_steps,
         escape_radius, max_drift, rk4_step, bool(record), threads, bool(batch),
+        monitor_every or 0,
     )  # fmt: skip
     drift = {k: np.asarray(v) for k, v in raw["invariant_drift"].items()}
     points = offsets = None

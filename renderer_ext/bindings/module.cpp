@@ -65,7 +65,7 @@ std::vector<double> copy1(const F64In& a, size_t expected, const char* what) {
 
 nb::dict trace(const std::string& metric, const std::vector<double>& params, F64In origins, F64In directions,
                I32In sheets, double tol, const std::string& stepper, long max_steps, double escape_radius,
-               double max_drift, double rk4_step, bool record, int threads, bool batch) {
+               double max_drift, double rk4_step, bool record, int threads, bool batch, int monitor_every) {
   auto st = wv::make_spacetime(metric, params);
   const size_t n = origins.ndim() == 2 ? origins.shape(0) : 0;
   check_rows(origins, n, "origins");
@@ -85,6 +85,7 @@ nb::dict trace(const std::string& metric, const std::vector<double>& params, F64
   req.options.max_drift = max_drift;
   req.options.rk4_step = rk4_step;
   req.options.record = record;
+  req.options.monitor_every = monitor_every;
   bool interrupted = false;
   req.poll = [&interrupted]() {
     nb::gil_scoped_acquire gil;
@@ -356,7 +357,7 @@ NB_MODULE(_core, m) {
   m.def("bsdf", &bsdf, "material"_a, "albedo"_a, "n"_a, "wo"_a, "u"_a, "at"_a,
         "Test hook: sample and evaluate one material's BSDF in a local frame.");
   m.def("trace", &trace, "metric"_a, "params"_a, "origins"_a, "directions"_a, "sheets"_a, "tol"_a, "stepper"_a,
-        "max_steps"_a, "escape_radius"_a, "max_drift"_a, "rk4_step"_a, "record"_a, "threads"_a, "batch"_a,
+        "max_steps"_a, "escape_radius"_a, "max_drift"_a, "rk4_step"_a, "record"_a, "threads"_a, "batch"_a, "monitor_every"_a,
         "Trace rays; see warpviz.trace for the documented interface.");
   m.def(
       "inverse_metric",
