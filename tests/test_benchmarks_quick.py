@@ -165,7 +165,7 @@ def test_skips_benchmark_reports_every_shortcut(tmp_path):
 
     assert bench_skips.main(["--quick", "--out", str(tmp_path)]) == 0
     rows = read_csv(tmp_path / "skips.csv")
-    assert [r["shortcut"].split()[0] for r in rows] == ["flat", "no", "no", "far-field"]
+    assert [r["shortcut"].split()[0] for r in rows] == ["flat", "no", "no", "far-field", "Kerr:", "pilots"]
     for r in rows:
         assert float(r["cpu_s_without"]) > 0 and float(r["cpu_s_with"]) > 0
         assert math.isclose(float(r["speedup"]), float(r["cpu_s_without"]) / float(r["cpu_s_with"]), rel_tol=1e-4)

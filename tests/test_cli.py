@@ -283,7 +283,7 @@ def test_bench_runs_a_named_suite(tmp_path):
     result = invoke("bench", "skips", "--quick", "--out", tmp_path)
     assert result.exit_code == 0, result.output
     with (tmp_path / "skips.csv").open() as f:
-        assert len(list(csv.DictReader(f))) == 4
+        assert len(list(csv.DictReader(f))) == 6
 
 
 def test_console_script_is_declared():
