@@ -10,6 +10,8 @@
 #pragma once
 
 #include <coroutine>
+#include <cstddef>
+#include <new>
 #include <exception>
 #include <type_traits>
 #include <utility>
@@ -21,9 +23,61 @@ class Task;
 
 namespace detail {
 
+// Coroutine frames come from a per-thread free list per 64-byte size class, so the coroutines of a path
+// (one per sample and segment) cost no malloc once the lists are warm. Frames above 16 KiB use the heap.
+class FramePool {
+ public:
+  FramePool() = default;
+  FramePool(const FramePool&) = delete;
+  FramePool& operator=(const FramePool&) = delete;
+  ~FramePool() {
+    for (Node*& head : free_)
+      while (head) {
+        Node* next = head->next;
+        ::operator delete(head);
+        head = next;
+      }
+  }
+  void* allocate(std::size_t n) {
+    const std::size_t c = size_class(n);
+    if (c >= kClasses) return ::operator new(n);
+    if (Node* head = free_[c]) {
+      free_[c] = head->next;
+      return head;
+    }
+    return ::operator new(c * kClassBytes);
+  }
+  void release(void* p, std::size_t n) noexcept {
+    const std::size_t c = size_class(n);
+    if (c >= kClasses) {
+      ::operator delete(p);
+      return;
+    }
+    Node* node = static_cast<Node*>(p);
+    node->next = free_[c];
+    free_[c] = node;
+  }
+
+ private:
+  static constexpr std::size_t kClassBytes = 64, kClasses = 256;
+  static std::size_t size_class(std::size_t n) { return (n + kClassBytes - 1) / kClassBytes; }
+  struct Node {
+    Node* next;
+  };
+  Node* free_[kClasses] = {};
+};
+
+inline FramePool& frame_pool() {
+  thread_local FramePool pool;
+  return pool;
+}
+
 struct TaskPromiseBase {
   std::coroutine_handle<> continuation;
   std::exception_ptr error;
+
+  static void* operator new(std::size_t n) { return frame_pool().allocate(n); }
+  static void operator delete(void* p, std::size_t n) noexcept { frame_pool().release(p, n); }
 
   std::suspend_always initial_suspend() noexcept { return {}; }
   struct FinalAwaiter {

@@ -260,15 +260,6 @@ class PathTracer {
     }
   }
 
-  // An awaitable that is ready at once with a value (flat space: nothing to integrate).
-  template <class T>
-  struct Ready {
-    T value;
-    bool await_ready() const noexcept { return true; }
-    void await_suspend(std::coroutine_handle<>) const noexcept {}
-    T await_resume() { return std::move(value); }
-  };
-
   struct NoLane {};
 
   // One geodesic to integrate, as an awaitable: queued for a lane (sched non-null) or integrated at once.
@@ -396,6 +387,9 @@ class PathTracer {
     int n = 0, next = 0;
   };
 
+  struct NoFrames {};  // flat space starts every segment without an observer frame
+  using PathFrames = std::conditional_t<M::kFlat, NoFrames, StartFrames>;
+
   typename StartFrames::Entry start_frame(V3 x, int sheet) const {
     typename StartFrames::Entry s;
     s.pos = x;
@@ -426,20 +420,21 @@ class PathTracer {
     return true;
   }
 
-  // The geodesic segment from user-frame point x on `sheet` along local direction d, as an awaitable:
-  // ready at once in flat space, a coroutine waiting for its geodesic in curved space.
-  auto segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st, StartFrames& frames, Scheduler* sched) const {
+  // Traces the geodesic segment from user-frame point x on `sheet` along local direction d into e, as an
+  // awaitable: done at once in flat space, a coroutine waiting for its geodesic in curved space.
+  auto segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st, PathFrames& frames, Scheduler* sched,
+               SegmentEnd& e) const {
     if constexpr (M::kFlat) {
       (void)frames;
       (void)sched;
-      return Ready<SegmentEnd>{flat_segment(x, sheet, d, skip, track, st)};
+      flat_segment(x, sheet, d, skip, track, st, e);
+      return std::suspend_never{};
     } else {
-      return curved_segment(x, sheet, d, skip, track, st, frames, sched);
+      return curved_segment(x, sheet, d, skip, track, st, frames, sched, e);
     }
   }
 
-  SegmentEnd flat_segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st) const {
-    SegmentEnd e;
+  void flat_segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st, SegmentEnd& e) const {
     const double skip_dist = 1e-4 * (1.0 + length(x));
     ++st.segments;
     SegmentHit hit;
@@ -458,19 +453,17 @@ class PathTracer {
     }
     if (track) flat_track(x, e.pos, sheet, *track);
     ++st.counts[e.status];
-    return e;
   }
 
-  Task<SegmentEnd> curved_segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st, StartFrames& frames,
-                                  Scheduler* sched) const {
-    SegmentEnd e;
+  Task<void> curved_segment(V3 x, int sheet, V3 d, int skip, Track* track, Stats& st, StartFrames& frames,
+                            Scheduler* sched, SegmentEnd& e) const {
     const double skip_dist = 1e-4 * (1.0 + length(x));
     ++st.segments;
     double y[8];
     if (!backward_state(x, sheet, d, y, frames)) {
       e.status = kHorizon;  // started on or inside the horizon (a surface grazing it)
       ++st.counts[e.status];
-      co_return e;
+      co_return;
     }
     const RayResult res = co_await Geodesic<SceneSurfaces<M>>(
         m_, sched, y, sheet, topt_, track, SceneSurfaces<M>(m_, sc_, o_.chord_tol, skip, skip_dist));
@@ -488,7 +481,7 @@ class PathTracer {
     } else if (e.status == kHit) {
       if (!observer_frame(m_, res.y, e.frame)) {
         e.status = kHorizon;
-        co_return e;
+        co_return;
       }
       double n[3];
       e.energy = -momentum_to_frame(e.frame, res.y + 4, n);
@@ -498,7 +491,6 @@ class PathTracer {
       e.normal_local = local_normal(res.y, e.frame, e.surface.normal);
       e.to_local = local_map(res.y, e.frame);
     }
-    co_return e;
   }
 
   void flat_track(V3 a, V3 b, int sheet, Track& t) const {
@@ -595,18 +587,19 @@ class PathTracer {
     }
   }
 
-  // Where each light's proxy is seen from at vertex e, as an awaitable: pilot geodesics towards the
-  // lights in curved space, none in flat space.
-  auto aim(const SegmentEnd& e, V3 n_user, V3 wo, Stats& st, StartFrames& frames, Scheduler* sched) const {
+  // Where each light's proxy is seen from at vertex e, into a, as an awaitable: pilot geodesics towards
+  // the lights in curved space, none in flat space.
+  auto aim(const SegmentEnd& e, V3 n_user, V3 wo, Stats& st, PathFrames& frames, Scheduler* sched, Aim& a) const {
     if constexpr (M::kFlat) {
       (void)n_user;
       (void)wo;
       (void)st;
       (void)frames;
       (void)sched;
-      return Ready<Aim>{unaimed(e)};
+      a = unaimed(e);
+      return std::suspend_never{};
     } else {
-      return pilots(e, n_user, wo, st, frames, sched);
+      return pilots(e, n_user, wo, st, frames, sched, a);
     }
   }
 
@@ -619,9 +612,10 @@ class PathTracer {
 
   // Pilot geodesics from vertex e towards each light, each traced from just off the surface to the
   // light's plane (c, nrm); the proxy is shifted by where they miss.
-  Task<Aim> pilots(const SegmentEnd& e, V3 n_user, V3 wo, Stats& st, StartFrames& frames, Scheduler* sched) const {
-    Aim a = unaimed(e);
-    if (!o_.aim_lights) co_return a;
+  Task<void> pilots(const SegmentEnd& e, V3 n_user, V3 wo, Stats& st, StartFrames& frames, Scheduler* sched,
+                    Aim& a) const {
+    a = unaimed(e);
+    if (!o_.aim_lights) co_return;
     const int n = std::min<int>(kAimedLights, int(sc_.lights.size()));
     for (int i = 0; i < n; ++i) {
       const int p = sc_.lights[i];
@@ -647,7 +641,6 @@ class PathTracer {
         a.from[i] = e.pos + (c - target);
       }
     }
-    co_return a;
   }
 
   // Mixture pdf of the light strategy for local direction w at a vertex on `sheet`.
@@ -671,9 +664,11 @@ class PathTracer {
   Task<void> sample_pixel(int px, int py, int s, Film& film, SampleOut& out, bool recorded, Stats& st,
                           Scheduler* sched) const {
     std::vector<RecordedSegment>* rec = recorded ? &out.rec : nullptr;
-    StartFrames frames;  // starts of this path's segments, the camera's first
-    frames.e[0] = camera_start_;
-    frames.n = frames.next = 1;
+    PathFrames frames;  // curved space: starts of this path's segments, the camera's first
+    if constexpr (!M::kFlat) {
+      frames.e[0] = camera_start_;
+      frames.n = frames.next = 1;
+    }
     const Camera& cam = sc_.camera;
     const size_t pix = size_t(py) * cam.width + px;
     Rng rng(o_.seed, pix, uint64_t(s));
@@ -712,7 +707,8 @@ class PathTracer {
 
     for (int bounce = 0; bounce < o_.max_depth; ++bounce) {
       Track* track = open();
-      const SegmentEnd e = co_await segment(x, sheet, d, skip, track, st, frames, sched);
+      SegmentEnd e;
+      co_await segment(x, sheet, d, skip, track, st, frames, sched, e);
       close(e, sheet, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
       if (bounce == 0 && s == 0) {
         film.status[pix] = float(e.status);
@@ -736,7 +732,7 @@ class PathTracer {
       if (nee) {
         // Light strategy: a direction from the (pilot-aimed) flat-space proxy of one light, traced as a
         // geodesic.
-        aimed = co_await aim(e, sp.normal, wo, st, frames, sched);
+        co_await aim(e, sp.normal, wo, st, frames, sched, aimed);
         const int li = std::min(int(sc_.lights.size()) - 1, int(rng.uniform() * sc_.lights.size()));
         const double u1 = rng.uniform(), u2 = rng.uniform();
         V3 wl;
@@ -749,8 +745,8 @@ class PathTracer {
           const double pl = lights_pdf(aimed, e.sheet, e.to_local, wl);
           if (max_component(f) > 0.0 && pl > 0.0) {
             Track* light_track = open();
-            const SegmentEnd le =
-                co_await segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched);
+            SegmentEnd le;
+            co_await segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched, le);
             close(le, e.sheet, bounce + 1, kLightSegment);
             L += beta * f * emission(le) / (pl + pb);
           }

@@ -3,7 +3,8 @@
 // run for kLanes rays at once. Each lane keeps its own step size; accepting or rejecting a step,
 // crossings, monitoring and recording stay per ray, in the very GeodesicRay logic that traces a ray on
 // its own (geodesic.h), which sees its lane through Dopri5Lane. When a ray ends its lane takes the next
-// ray of the block, so lanes stay busy.
+// job (run_lanes): the next ray of a trace() block, or the next geodesic that a path tracer's sample
+// waits for (integrators/path_tracer.h), so lanes stay busy; each job has its own tolerance.
 //
 // Every lane operation is the scalar operation, so a ray's result is bit-identical to tracing it alone
 // (tests/test_batch.py), whatever the other lanes hold, the thread count or the instruction set.
