@@ -309,10 +309,10 @@ class GeodesicRay {
       int prim;
       if (surfaces_ && surfaces_->find(st, y, ynew, h, sheet_, theta, prim)) {
         st.attempt(m, y, theta * h, o.tol, ys);
-        monitor_at(ys);
+        const bool ok = monitor_at(ys);
         record(ys, lam_ + theta * h, theta * h);
         res.prim = prim;
-        return finish(kHit, ys);
+        return finish(ok ? kHit : kInvariantViolation, ys);
       }
     }
     const double r_new = m.radius(ynew);
@@ -325,9 +325,9 @@ class GeodesicRay {
       const double hi = crossing(dr, 0.0, r_ - r_h_, 1.0, r_new - r_h_, 1e-14, 1e-13 * std::max(1.0, r_h_));
       // The crossing is found on the dense output; the state there comes from a full-order step.
       st.attempt(m, y, hi * h, o.tol, ys);
-      monitor_at(ys);
+      const bool ok = monitor_at(ys);
       record(ys, lam_ + hi * h, hi * h);
-      return finish(kHorizon, ys);
+      return finish(ok ? kHorizon : kInvariantViolation, ys);
     }
     // Escape: moving outward beyond the escape radius. The final position is the crossing of the
     // escape sphere (located on the dense output); the direction keeps integrating, unrecorded, out
