@@ -266,6 +266,8 @@ def main(argv=None) -> list[dict]:
     ap.add_argument("--threads", type=int, default=1, help="trace threads (default 1; rates are per core anyway)")
     ap.add_argument("--size", type=int, default=None, help="Kerr image plane is size x size rays (default 16, quick 4)")
     ap.add_argument("--no-plots", action="store_true", help="write the CSV only")
+    ap.add_argument("--no-batch", action="store_true",
+                    help="trace dopri5 one ray at a time too (like rk4 and dop853), for a like-for-like comparison")
     ap.add_argument("--min-cpu", type=float, default=None, help="CPU seconds per timing (default 0.3, quick 0.01)")
     args = ap.parse_args(argv)
     size = args.size or (4 if args.quick else 16)
@@ -279,7 +281,7 @@ def main(argv=None) -> list[dict]:
         ref = wv.trace(metric, origin, dirs, stepper="dop853", tol=1e-13, threads=args.threads,
                        max_steps=10_000_000) if needs_ref else None  # fmt: skip
         for stepper, variant, tol, rk4_step in runs(quick=args.quick):
-            opts = {"stepper": stepper, "tol": tol} | ({"rk4_step": rk4_step} if rk4_step else {})
+            opts = {"stepper": stepper, "tol": tol, "batch": not args.no_batch} | ({"rk4_step": rk4_step} if rk4_step else {})
             rays, per_ray = measure(metric, origin, dirs, min_cpu=min_cpu, threads=args.threads, **opts)
             drift = rays.invariant_drift
             conserved = [v for k, v in drift.items() if k != "H"]  # E, Lz, Q (Kerr); E, Lz, L2; E, L2 (Ellis)
