@@ -127,3 +127,18 @@ def test_render_in_lanes_with_brute_force_and_without_aiming():
     scene = room(native_metric("schwarzschild", 2.5), size=(10, 8))
     for kw in ({"light_sampling": False}, {"aim_lights": False}):
         assert_images_identical(wv.render(scene, spp=2, **kw), wv.render(scene, spp=2, batch=False, **kw))
+
+
+def test_render_with_fixed_step_stepper_ignores_batch():
+    """rk4 never steps in lanes: batch=True and batch=False run the same code and give the same image."""
+    scene = room(native_metric("schwarzschild", 2.5), size=(8, 6))
+    assert_images_identical(wv.render(scene, spp=1, stepper="rk4"), wv.render(scene, spp=1, stepper="rk4", batch=False))
+
+
+def test_pilot_tolerance_is_validated_and_reported_kernel_is_named():
+    scene = room(native_metric("schwarzschild", 2.5), size=(4, 3))
+    with pytest.raises(ValueError, match="pilot_tol"):
+        wv.render(scene, spp=1, pilot_tol=0.0)
+    info = wv.build_info()
+    assert "8-ray dopri5 batches" in info["simd"]
+    assert "-ffp-contract=off" in info["flags"]
