@@ -421,7 +421,7 @@ NB_MODULE(_core, m) {
     d["flags"] = std::string(WARPVIZ_BUILD_FLAGS);
     d["hardware_threads"] = wv::resolve_threads(0);
     d["threading"] = std::string("std::thread pool, GIL released, deterministic per ray");
-    d["simd"] = std::to_string(wv::kLanes) + "-ray dopri5 batches, " + wv::lane_kernel_isa() + " kernel";
+    d["simd"] = std::to_string(wv::kLanes) + "-ray batches, " + wv::lane_kernel_isa() + " kernel";
     return d;
   });
 }

@@ -10,9 +10,9 @@
 // direction and the estimator is unbiased even though the proxy ignores bending. Russian roulette ends
 // long paths. Every random number comes from Rng(seed, pixel, sample).
 //
-// A sample is a coroutine that co_awaits each geodesic it needs. With dopri5 the geodesics of many
-// samples wait in a queue and step together in SIMD lanes (spacetime/ray_batch.h); otherwise each is
-// integrated on the spot. Samples' radiance is summed in (pixel, sample) order either way, so the image
+// A sample is a coroutine that co_awaits each geodesic it needs. In curved space the geodesics of many
+// samples wait in a queue and step together in SIMD lanes (spacetime/ray_batch.h); with batch = false
+// each is integrated on the spot. Samples' radiance is summed in (pixel, sample) order either way, so the image
 // is bit-identical with and without lanes and for any thread count.
 #pragma once
 
@@ -39,7 +39,6 @@
 #include "spacetime/geodesic.h"
 #include "spacetime/ray_batch.h"
 #include "spacetime/steppers/common.h"
-#include "spacetime/steppers/dopri5.h"
 
 namespace wv {
 
@@ -52,7 +51,7 @@ struct RenderOptions {
   TraceOptions trace;  // tol, max_steps, escape_radius, max_drift (record is ignored)
   double chord_tol = 1e-3;
   bool aim_lights = true;  // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
-  bool batch = true;       // dopri5: step the geodesics of many samples together in SIMD lanes
+  bool batch = true;       // curved space: step the geodesics of many samples together in SIMD lanes
   // Local error tolerance of pilot geodesics (at least trace.tol). A pilot only decides where a light's
   // proxy is seen from, never what a sample is worth, so its accuracy cannot bias the image.
   double pilot_tol = 1e-4;
@@ -206,12 +205,14 @@ class PathTracer {
     if (so.error) film.errors[pix] += 1;
   }
 
-  // Geodesics step in SIMD lanes for dopri5 in curved space (ray_batch.h).
-  static constexpr bool kLaned = std::is_same_v<S, Dopri5<M>> && !M::kFlat && HasLaneRhs<M>::value;
+  // Geodesics step in SIMD lanes in curved space (ray_batch.h), through the batch form of stepper S.
+  static constexpr bool kLaned = kLanesFor<M, S>;
+  using Batch = std::conditional_t<kLaned, BatchOf<S>, S>;
+  using Job = LaneJob<M, Batch>;
 
   // Geodesics waiting for a lane, in the order they were asked for.
   struct Scheduler {
-    std::deque<LaneJob<M>*> queue;
+    std::deque<Job*> queue;
   };
 
   // Runs samples make(k, scheduler) for k in [0, n): with lanes, as many at once as keep the lanes busy;
@@ -235,7 +236,7 @@ class PathTracer {
           }
         };
         // A lane needs a geodesic: take the oldest waiting one, starting new samples until there is one.
-        auto fill = [&](int) -> LaneJob<M>* {
+        auto fill = [&](int) -> Job* {
           while (sched.queue.empty() && next < n) {
             sweep();
             Task<void> t = make(next++, &sched);
@@ -244,11 +245,11 @@ class PathTracer {
             else running.push_back(std::move(t));
           }
           if (sched.queue.empty()) return nullptr;
-          LaneJob<M>* job = sched.queue.front();
+          Job* job = sched.queue.front();
           sched.queue.pop_front();
           return job;
         };
-        run_lanes(m_, fill, [](LaneJob<M>* job, int) { job->waiter.resume(); });
+        run_lanes<M, Batch>(m_, fill, [](Job* job, int) { job->waiter.resume(); });
         sweep();
         return;
       }
@@ -273,7 +274,7 @@ class PathTracer {
     Track* track;
     Surf surf;
     RayResult res;
-    std::conditional_t<kLaned, LaneRay<M, Surf>, NoLane> lane;
+    std::conditional_t<kLaned, LaneRay<M, Batch, Surf>, NoLane> lane;
 
     Geodesic(const M& metric, Scheduler* s, const double y0[8], int sh, const TraceOptions& opt, Track* tr, Surf sf)
         : m(metric), sched(s), sheet(sh), o(opt), track(tr), surf(std::move(sf)) {

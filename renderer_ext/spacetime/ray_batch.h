@@ -1,8 +1,8 @@
-// Tracing rays in SIMD batches: kLanes rays step together through one Dormand-Prince stepper whose
-// values are lane vectors (core/simd.h), so the metric's Hamilton equations and the stage arithmetic
-// run for kLanes rays at once. Each lane keeps its own step size; accepting or rejecting a step,
-// crossings, monitoring and recording stay per ray, in the very GeodesicRay logic that traces a ray on
-// its own (geodesic.h), which sees its lane through Dopri5Lane. When a ray ends its lane takes the next
+// Tracing rays in SIMD batches: kLanes rays step together through one stepper (dopri5, dop853 or rk4)
+// whose values are lane vectors (core/simd.h), so the metric's Hamilton equations and the stage
+// arithmetic run for kLanes rays at once. Each lane keeps its own step size; accepting or rejecting a
+// step, crossings, monitoring and recording stay per ray, in the very GeodesicRay logic that traces a
+// ray on its own (geodesic.h), which sees its lane through StepperLane. When a ray ends its lane takes the next
 // job (run_lanes): the next ray of a trace() block, or the next geodesic that a path tracer's sample
 // waits for (integrators/path_tracer.h), so lanes stay busy; each job has its own tolerance.
 //
@@ -17,11 +17,11 @@
 
 #include "core/simd.h"
 #include "spacetime/geodesic.h"
-#include "spacetime/steppers/dopri5.h"
 
 namespace wv {
 
-// Whether metric M can run in lanes: its Hamilton right-hand side is templated over the scalar type.
+// Whether metric M can run in lanes: its Hamilton right-hand side is templated over the scalar type
+// (Minkowski never steps).
 template <class M, class = void>
 struct HasLaneRhs : std::false_type {};
 template <class M>
@@ -29,23 +29,32 @@ struct HasLaneRhs<M, std::void_t<decltype(std::declval<const M&>().rhs(std::decl
                                                                         std::declval<Lanes*>()))>>
     : std::true_type {};
 
-// One trial step of every lane; compiled for AVX-512, AVX2 and baseline x86-64 (chosen at load time).
-template <class M>
-WV_LANE_CLONES void dopri5_lanes_attempt(const M& m, Dopri5<M, Lanes>& st, const Lanes* y, const Lanes* h,
-                                         const Lanes* tol, Lanes* ynew, Lanes* err) {
+// Whether rays of metric M with scalar stepper S step in lanes, and S's batch stepper.
+template <class M, class S>
+constexpr bool kLanesFor = !M::kFlat && HasLaneRhs<M>::value;
+template <class S>
+using BatchOf = typename S::template Rebind<Lanes>;
+
+// One trial step of every lane of batch stepper B (a stepper over Lanes); compiled for AVX-512, AVX2 and
+// baseline x86-64 (chosen at load time).
+template <class M, class B>
+WV_LANE_CLONES void lanes_attempt(const M& m, B& st, const Lanes* y, const Lanes* h, const Lanes* tol, Lanes* ynew,
+                                  Lanes* err) {
   *err = st.attempt(m, y, *h, *tol, ynew);
 }
 
-// One lane of a batch stepper seen as a scalar stepper (the interface of steppers/common.h). Dense output
+// One lane of batch stepper B seen as a scalar stepper (the interface of steppers/common.h). Dense output
 // and partial steps use a scalar copy of the lane's stages, gathered once per batch step.
-template <class M>
-struct Dopri5Lane {
-  static constexpr bool kAdaptive = Dopri5<M>::kAdaptive;
-  static constexpr int kOrder = Dopri5<M>::kOrder;
-  Dopri5<M, Lanes>* batch = nullptr;
+template <class M, class B>
+struct StepperLane {
+  using Scalar = typename B::template Rebind<double>;
+  static constexpr bool kAdaptive = Scalar::kAdaptive;
+  static constexpr int kOrder = Scalar::kOrder;
+  static constexpr int kStages = B::kStages, kNew = B::kNew;
+  B* batch = nullptr;
   int lane = 0;
   double knew[8];
-  mutable Dopri5<M> cache;     // the lane's stages, valid while `cached`
+  mutable Scalar cache;  // the lane's stages, valid while `cached`
   mutable bool cached = false;
 
   // The batch stepper has made a new trial step.
@@ -57,16 +66,16 @@ struct Dopri5Lane {
     cached = false;
   }
   const double* derivative_new() {
-    for (int i = 0; i < 8; ++i) knew[i] = batch->k[6][i][lane];
+    for (int i = 0; i < 8; ++i) knew[i] = batch->k[kNew][i][lane];
     return knew;
   }
   void accept() {
-    for (int i = 0; i < 8; ++i) batch->k[0][i][lane] = batch->k[6][i][lane];
+    for (int i = 0; i < 8; ++i) batch->k[0][i][lane] = batch->k[kNew][i][lane];
     cached = false;
   }
-  const Dopri5<M>& scalar() const {
+  const Scalar& scalar() const {
     if (!cached) {
-      for (int j = 0; j < 7; ++j)
+      for (int j = 0; j < kStages; ++j)
         for (int i = 0; i < 8; ++i) cache.k[j][i] = batch->k[j][i][lane];
       cached = true;
     }
@@ -79,7 +88,7 @@ struct Dopri5Lane {
   double attempt(const M& m, const double y[8], double h, double tol, double ynew[8]) {
     scalar();
     const double e = cache.attempt(m, y, h, tol, ynew);
-    for (int j = 0; j < 7; ++j)
+    for (int j = 0; j < kStages; ++j)
       for (int i = 0; i < 8; ++i) batch->k[j][i][lane] = cache.k[j][i];
     return e;
   }
@@ -87,20 +96,20 @@ struct Dopri5Lane {
 
 // A ray that needs stepping, as the lanes see it: any GeodesicRay (of any surface set) behind one
 // interface, plus whoever waits for it (a path tracer's coroutine).
-template <class M>
+template <class M, class B>
 struct LaneJob {
   virtual ~LaneJob() = default;
   // advance() then next() of the ray: false when it has ended.
-  virtual bool step(Dopri5Lane<M>& st, double err, const double ynew[8]) = 0;
+  virtual bool step(StepperLane<M, B>& st, double err, const double ynew[8]) = 0;
   double* y = nullptr;  // the ray's state to step from
   double* h = nullptr;  // the step to attempt
   double tol = 1e-9;    // its error tolerance
   std::coroutine_handle<> waiter;
 };
 
-template <class M, class Surf = NoSurfaces>
-struct LaneRay final : LaneJob<M> {
-  GeodesicRay<M, Dopri5Lane<M>, Surf> ray;
+template <class M, class B, class Surf = NoSurfaces>
+struct LaneRay final : LaneJob<M, B> {
+  GeodesicRay<M, StepperLane<M, B>, Surf> ray;
   // Sets the ray up (GeodesicRay::begin and the first next()); false if it has ended already.
   bool start(const M& m, const double y0[8], int sheet, const TraceOptions& o, RayResult& res, Track* track,
              Surf* surfaces = nullptr) {
@@ -109,21 +118,21 @@ struct LaneRay final : LaneJob<M> {
     this->tol = o.tol;
     return ray.begin(m, y0, sheet, o, res, track, surfaces) && ray.next();
   }
-  bool step(Dopri5Lane<M>& st, double err, const double ynew[8]) override {
+  bool step(StepperLane<M, B>& st, double err, const double ynew[8]) override {
     return ray.advance(st, err, ynew) && ray.next();
   }
 };
 
-// The lane engine: steps kLanes jobs (each with its own step and tolerance) at a time with dopri5 until
-// fill(lane) has no more. fill(l) returns
+// The lane engine: steps kLanes jobs (each with its own step and tolerance) at a time with batch stepper B
+// until fill(lane) has no more. fill(l) returns
 // the next job (already started) for lane l or nullptr; done(job, l) is told when a job's ray has ended
 // (and may make new jobs for fill to hand out).
-template <class M, class Fill, class Done>
+template <class M, class B, class Fill, class Done>
 void run_lanes(const M& m, const Fill& fill, const Done& done) {
-  Dopri5<M, Lanes> st;
+  B st;
   Lanes y[8], h, tol, ynew[8], err;
-  Dopri5Lane<M> view[kLanes];
-  LaneJob<M>* job[kLanes];
+  StepperLane<M, B> view[kLanes];
+  LaneJob<M, B>* job[kLanes];
   int n_active = 0;
   auto refill = [&](int l) {
     job[l] = fill(l);
@@ -154,7 +163,7 @@ void run_lanes(const M& m, const Fill& fill, const Done& done) {
         h[l] = h[some];
         tol[l] = tol[some];
       }
-    dopri5_lanes_attempt(m, st, y, &h, &tol, ynew, &err);
+    lanes_attempt(m, st, y, &h, &tol, ynew, &err);
     for (int l = 0; l < kLanes; ++l) view[l].invalidate();
     for (int l = 0; l < kLanes; ++l) {
       if (!job[l]) continue;
@@ -172,14 +181,14 @@ void run_lanes(const M& m, const Fill& fill, const Done& done) {
 
 // Traces rays [first, last) through the lanes. setup(i, y, sheet) writes ray i's initial chart state
 // and sheet (it may throw), track_of(i) is its Track or nullptr, done(i, result) takes each finished ray.
-template <class M, class Setup, class TrackOf, class Done>
+template <class M, class B, class Setup, class TrackOf, class Done>
 void trace_lanes(const M& m, const TraceOptions& o, std::size_t first, std::size_t last, const Setup& setup,
                  const TrackOf& track_of, const Done& done) {
-  LaneRay<M> ray[kLanes];
+  LaneRay<M, B> ray[kLanes];
   RayResult res[kLanes];
   std::size_t id[kLanes];
   std::size_t next = first;
-  auto fill = [&](int l) -> LaneJob<M>* {
+  auto fill = [&](int l) -> LaneJob<M, B>* {
     while (next < last) {
       const std::size_t i = next++;
       double y0[8];
@@ -194,7 +203,7 @@ void trace_lanes(const M& m, const TraceOptions& o, std::size_t first, std::size
     }
     return nullptr;
   };
-  run_lanes(m, fill, [&](LaneJob<M>*, int l) { done(id[l], res[l]); });
+  run_lanes<M, B>(m, fill, [&](LaneJob<M, B>*, int l) { done(id[l], res[l]); });
 }
 
 }  // namespace wv

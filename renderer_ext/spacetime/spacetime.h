@@ -29,7 +29,7 @@ struct TraceRequest {
   TraceOptions options;
   StepperKind stepper = StepperKind::kDopri5;
   int threads = 0;
-  bool batch = true;           // dopri5 rays in SIMD lanes (ray_batch.h); false: one ray at a time
+  bool batch = true;           // rays step in SIMD lanes (ray_batch.h); false: one ray at a time
   std::function<bool()> poll;  // called periodically from the calling thread; false cancels
 };
 
@@ -143,13 +143,14 @@ class SpacetimeImpl final : public Spacetime {
       for (int k = 0; k < K; ++k) out.drift[k * n + i] = res.drift[k];
     };
     bool lanes = false;
-    if constexpr (std::is_same_v<S, Dopri5<M>> && !M::kFlat && HasLaneRhs<M>::value) {
+    if constexpr (kLanesFor<M, S>) {
       if (req.batch) {
         // Blocks of rays, each traced through the SIMD lanes on one thread.
         constexpr std::size_t kBlock = 256;
         const std::size_t blocks = (n + kBlock - 1) / kBlock;
         auto block = [&](std::size_t b) {
-          trace_lanes(m_, req.options, b * kBlock, std::min(n, (b + 1) * kBlock), setup, track_of, done);
+          trace_lanes<M, BatchOf<S>>(m_, req.options, b * kBlock, std::min(n, (b + 1) * kBlock), setup, track_of,
+                                     done);
         };
         out.completed = parallel_for(blocks, req.threads, 1, block, req.poll);
         lanes = true;

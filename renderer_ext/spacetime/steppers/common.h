@@ -8,6 +8,10 @@
 //   void dense(y, ynew, h, theta, out)           state at y + theta*h within the accepted step
 //   const double* derivative_new()               f(ynew) of the last trial step (for free H checks)
 //   static constexpr bool kAdaptive; static constexpr int kOrder;
+//
+// The steppers are templated over the value type T (double, or Lanes for a batch of rays, one per lane;
+// ray_batch.h). Their whole state is `T k[kStages][8]`: k[0] = f(y) at the start of the step, k[kNew] =
+// f(ynew) after an attempt; `Rebind<U>` is the same stepper over value type U.
 #pragma once
 
 #include <cmath>

@@ -8,51 +8,57 @@
 
 namespace wv {
 
-template <class M>
+// T is double, or Lanes for a batch of rays (ray_batch.h).
+template <class M, class T = double>
 struct Dop853 {
   static constexpr bool kAdaptive = true;
   static constexpr int kOrder = 8;  // controller exponent 1/8
   static constexpr int S = dop853::kStages;
-  double k[S + 1][8];  // k[0] = f(y), k[S] = f(ynew)
+  static constexpr int kStages = S + 1, kNew = S;  // k[0] = f(y), k[S] = f(ynew)
+  template <class U>
+  using Rebind = Dop853<M, U>;
+  T k[kStages][8];
 
-  void init(const M& m, const double y[8]) { m.rhs(y, k[0]); }
+  void init(const M& m, const T y[8]) { m.rhs(y, k[0]); }
 
-  double attempt(const M& m, const double y[8], double h, double tol, double ynew[8]) {
-    double t[8];
+  WV_INLINE T attempt(const M& m, const T y[8], T h, T tol, T ynew[8]) {
+    T t[8];
     for (int s = 1; s < S; ++s) {
       for (int i = 0; i < 8; ++i) {
-        double acc = 0.0;
+        T acc = T{};
         for (int j = 0; j < s; ++j) acc += dop853::A[s][j] * k[j][i];
         t[i] = y[i] + h * acc;
       }
       m.rhs(t, k[s]);
     }
     for (int i = 0; i < 8; ++i) {
-      double acc = 0.0;
+      T acc = T{};
       for (int j = 0; j < S; ++j) acc += dop853::B[j] * k[j][i];
       ynew[i] = y[i] + h * acc;
     }
     m.rhs(ynew, k[S]);
-    double e5n = 0.0, e3n = 0.0;
+    T e5n = T{}, e3n = T{};
     for (int i = 1; i < 8; ++i) {
-      double a5 = 0.0, a3 = 0.0;
+      T a5 = T{}, a3 = T{};
       for (int j = 0; j <= S; ++j) {
         a5 += dop853::E5[j] * k[j][i];
         a3 += dop853::E3[j] * k[j][i];
       }
-      const double sc = tol * (1.0 + std::fmax(std::fabs(y[i]), std::fabs(ynew[i])));
+      const T sc = tol * (1.0 + max_of(abs_of(y[i]), abs_of(ynew[i])));
       e5n += (a5 / sc) * (a5 / sc);
       e3n += (a3 / sc) * (a3 / sc);
     }
-    if (e5n == 0.0 && e3n == 0.0) return 0.0;
-    return std::fabs(h) * e5n / std::sqrt((e5n + 0.01 * e3n) * 7.0);
+    // Hairer's combined estimate; 0 where both estimates vanish.
+    const T den = sqrt((e5n + 0.01 * e3n) * 7.0);
+    const T e = abs_of(h) * e5n / den;
+    return den == 0.0 ? T{} : e;
   }
 
   void dense(const double y[8], const double ynew[8], double h, double theta, double out[8]) const {
     hermite_dense(y, k[0], ynew, k[S], h, theta, out);
   }
 
-  const double* derivative_new() const { return k[S]; }
+  const T* derivative_new() const { return k[S]; }
 
   void accept() {
     for (int i = 0; i < 8; ++i) k[0][i] = k[S][i];

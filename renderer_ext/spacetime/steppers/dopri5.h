@@ -11,7 +11,10 @@ template <class M, class T = double>
 struct Dopri5 {
   static constexpr bool kAdaptive = true;
   static constexpr int kOrder = 5;  // error estimate of order 4: controller exponent 1/5
-  T k[7][8];                        // k[0] = f(y); k[6] = f(ynew) after attempt (FSAL)
+  static constexpr int kStages = 7, kNew = 6;  // k[0] = f(y); k[6] = f(ynew) after attempt (FSAL)
+  template <class U>
+  using Rebind = Dopri5<M, U>;
+  T k[kStages][8];
 
   void init(const M& m, const T y[8]) { m.rhs(y, k[0]); }
 
@@ -61,7 +64,7 @@ struct Dopri5 {
     }
   }
 
-  const double* derivative_new() const { return k[6]; }
+  const T* derivative_new() const { return k[kNew]; }
 
   void accept() {
     for (int i = 0; i < 8; ++i) k[0][i] = k[6][i];

@@ -10,35 +10,39 @@
 
 namespace wv {
 
-template <class M>
+// T is double, or Lanes for a batch of rays (ray_batch.h).
+template <class M, class T = double>
 struct Rk4 {
   static constexpr bool kAdaptive = false;
   static constexpr int kOrder = 4;
-  double k1[8], k2[8], k3[8], k4[8], fnew[8];
+  static constexpr int kStages = 5, kNew = 4;  // k[0] = f(y), k[1..3] inner stages, k[4] = f(ynew)
+  template <class U>
+  using Rebind = Rk4<M, U>;
+  T k[kStages][8];
 
-  void init(const M& m, const double y[8]) { m.rhs(y, k1); }
+  void init(const M& m, const T y[8]) { m.rhs(y, k[0]); }
 
-  double attempt(const M& m, const double y[8], double h, double /*tol*/, double ynew[8]) {
-    double t[8];
-    for (int i = 0; i < 8; ++i) t[i] = y[i] + 0.5 * h * k1[i];
-    m.rhs(t, k2);
-    for (int i = 0; i < 8; ++i) t[i] = y[i] + 0.5 * h * k2[i];
-    m.rhs(t, k3);
-    for (int i = 0; i < 8; ++i) t[i] = y[i] + h * k3[i];
-    m.rhs(t, k4);
-    for (int i = 0; i < 8; ++i) ynew[i] = y[i] + h * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]) / 6.0;
-    m.rhs(ynew, fnew);
-    return 0.0;
+  WV_INLINE T attempt(const M& m, const T y[8], T h, T /*tol*/, T ynew[8]) {
+    T t[8];
+    for (int i = 0; i < 8; ++i) t[i] = y[i] + 0.5 * h * k[0][i];
+    m.rhs(t, k[1]);
+    for (int i = 0; i < 8; ++i) t[i] = y[i] + 0.5 * h * k[1][i];
+    m.rhs(t, k[2]);
+    for (int i = 0; i < 8; ++i) t[i] = y[i] + h * k[2][i];
+    m.rhs(t, k[3]);
+    for (int i = 0; i < 8; ++i) ynew[i] = y[i] + h * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]) / 6.0;
+    m.rhs(ynew, k[kNew]);
+    return T{};
   }
 
   void dense(const double y[8], const double ynew[8], double h, double theta, double out[8]) const {
-    hermite_dense(y, k1, ynew, fnew, h, theta, out);
+    hermite_dense(y, k[0], ynew, k[kNew], h, theta, out);
   }
 
-  const double* derivative_new() const { return fnew; }
+  const T* derivative_new() const { return k[kNew]; }
 
   void accept() {
-    for (int i = 0; i < 8; ++i) k1[i] = fnew[i];
+    for (int i = 0; i < 8; ++i) k[0][i] = k[kNew][i];
   }
 };
 
