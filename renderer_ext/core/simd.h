@@ -57,10 +57,4 @@ WV_INLINE Lanes abs_of(Lanes v) {
 WV_INLINE double max_of(double a, double b) { return a > b ? a : b; }
 WV_INLINE Lanes max_of(Lanes a, Lanes b) { return a > b ? a : b; }
 
-// A lane vector with every lane equal to s.
-WV_INLINE Lanes broadcast(double s) {
-  Lanes r = {};
-  return r + s;
-}
-
 }  // namespace wv

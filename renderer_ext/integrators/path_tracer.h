@@ -206,7 +206,7 @@ class PathTracer {
   }
 
   // Geodesics step in SIMD lanes in curved space (ray_batch.h), through the batch form of stepper S.
-  static constexpr bool kLaned = kLanesFor<M, S>;
+  static constexpr bool kLaned = kLanesFor<M>;
   using Batch = std::conditional_t<kLaned, BatchOf<S>, S>;
   using Job = LaneJob<M, Batch>;
 

@@ -211,15 +211,15 @@ class GeodesicRay {
       straight_ray(m, y, sheet, o, res, track);
       return false;
     } else {
-      m.invariants(y, inv0_);
+      const HamiltonianParts hp0 = hamiltonian_parts(m, y);
+      for (int k = 0; k < K; ++k) mag_[k] = 0.0;
+      inv0_[0] = 0.5 * hp0.two_h;
+      m.conserved(y, hp0, inv0_, mag_);
       m.invariant_scales(y, inv0_, scale_);
       // Like H below, each conserved quantity's drift is measured against the largest size of the
       // terms it is computed from along the ray (at least its scale at the start): where momenta grow
       // large (backward rays near a horizon) the cancellation in those terms limits what can be
       // conserved.
-      for (int k = 0; k < K; ++k) mag_[k] = 0.0;
-      const HamiltonianParts hp0 = hamiltonian_parts(m, y);
-      m.conserved(y, hp0, inv_, mag_);
       for (int k = 1; k < K; ++k) scale_[k] = std::max(scale_[k], mag_[k]);
       for (int k = 0; k < K; ++k) drift_[k] = 0.0;
       // H is measured relative to the largest size its terms had along the ray: the rounding and

@@ -29,8 +29,8 @@ struct HasLaneRhs<M, std::void_t<decltype(std::declval<const M&>().rhs(std::decl
                                                                         std::declval<Lanes*>()))>>
     : std::true_type {};
 
-// Whether rays of metric M with scalar stepper S step in lanes, and S's batch stepper.
-template <class M, class S>
+// Whether rays of metric M step in lanes (with any stepper), and stepper S's batch form.
+template <class M>
 constexpr bool kLanesFor = !M::kFlat && HasLaneRhs<M>::value;
 template <class S>
 using BatchOf = typename S::template Rebind<Lanes>;

@@ -8,7 +8,6 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "core/parallel.h"
@@ -143,7 +142,7 @@ class SpacetimeImpl final : public Spacetime {
       for (int k = 0; k < K; ++k) out.drift[k * n + i] = res.drift[k];
     };
     bool lanes = false;
-    if constexpr (kLanesFor<M, S>) {
+    if constexpr (kLanesFor<M>) {
       if (req.batch) {
         // Blocks of rays, each traced through the SIMD lanes on one thread.
         constexpr std::size_t kBlock = 256;
