@@ -62,16 +62,6 @@ void rhs_autodiff(const M& m, const double y[8], double dy[8]) {
   }
 }
 
-template <class M>
-double hamiltonian(const M& m, const double y[8]) {
-  double gi[4][4];
-  m.inverse_metric(y, gi);
-  double s = 0.0;
-  for (int a = 0; a < 4; ++a)
-    for (int b = 0; b < 4; ++b) s += gi[a][b] * y[4 + a] * y[4 + b];
-  return 0.5 * s;
-}
-
 // |2H| and the Euclidean size of its terms g^{mu nu} p_mu p_nu (their ratio is 0 for an exact null vector).
 struct HamiltonianParts {
   double abs2h = 0.0, mag = 0.0, two_h = 0.0;  // |2H|, sum of |terms|, 2H
