@@ -101,3 +101,28 @@ def test_every_ray_ends_with_a_defined_status_and_finite_output(metric, stepper)
     assert np.isfinite(rays.final_positions).all() and np.isfinite(rays.final_directions).all()
     np.testing.assert_allclose(np.linalg.norm(rays.final_directions, axis=1), 1.0, atol=1e-12)
     assert rays.max_drift().max() < 1e-5
+
+
+@pytest.mark.parametrize("metric", METRICS, ids=IDS)
+def test_observer_frame_is_orthonormal_and_closed_form_matches_generic(metric):
+    """The frame the renderer builds at every vertex: u timelike unit, e_j unit and orthogonal to u and
+    to each other; where a metric gives it in closed form, it equals the generic Lowdin construction."""
+    rng = np.random.default_rng(11)
+    for y in random_states(metric, 200, rng):
+        x = y[:4]
+        fast = core.observer_frame(metric.name, metric.param_values, x)
+        slow = core.observer_frame(metric.name, metric.param_values, x, generic=True)
+        assert (fast is None) == (slow is None)
+        if fast is None:
+            continue
+        g, u, e = fast
+        basis = np.vstack([u, e])
+        np.testing.assert_allclose(basis @ g @ basis.T, np.diag([-1.0, 1.0, 1.0, 1.0]), rtol=0, atol=1e-12)
+        for a, b in zip(fast, slow):
+            np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * max(1.0, np.max(np.abs(b))))
+
+
+def test_no_observer_frame_inside_a_horizon():
+    for name, params, x in [("schwarzschild", [1.0], [0, 1.5, 0, 0]), ("schwarzschild", [1.0], [0, 0, 0, 2.0])]:
+        assert core.observer_frame(name, params, np.array(x, float)) is None
+        assert core.observer_frame(name, params, np.array(x, float), generic=True) is None

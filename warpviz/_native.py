@@ -12,7 +12,7 @@ except ImportError as exc:  # pragma: no cover - exercised only on a broken inst
     raise ImportError(
         "warpviz's compiled extension (warpviz._core) could not be loaded: "
         f"{exc}. Build it with `pip install -e .` from the repository root "
-        "(needs a C++17 compiler and CMake; scikit-build-core fetches nanobind)."
+        "(needs a C++20 compiler and CMake; scikit-build-core fetches nanobind)."
     ) from exc
 
 __all__ = ["core", "build_info", "registered_metrics"]

@@ -371,6 +371,19 @@ NB_MODULE(_core, m) {
       },
       "metric"_a, "params"_a, "x"_a);
   m.def(
+      "observer_frame",
+      [](const std::string& metric, const std::vector<double>& params, F64In x, bool generic) -> nb::object {
+        auto st = wv::make_spacetime(metric, params);
+        const auto xv = copy1(x, 4, "x");
+        wv::ObserverFrame f;
+        if (!st->observer_frame(xv.data(), generic, f)) return nb::none();
+        return nb::make_tuple(to_numpy(std::vector<double>(&f.g[0][0], &f.g[0][0] + 16), {4, 4}),
+                              to_numpy(std::vector<double>(f.u, f.u + 4), {4}),
+                              to_numpy(std::vector<double>(&f.e[0][0], &f.e[0][0] + 12), {3, 4}));
+      },
+      "metric"_a, "params"_a, "x"_a, "generic"_a = false,
+      "Test hook: (g_{mu nu}, u^mu, e_j^mu) of the local observer at chart point x, or None.");
+  m.def(
       "rhs",
       [](const std::string& metric, const std::vector<double>& params, F64In y, bool autodiff) {
         auto st = wv::make_spacetime(metric, params);

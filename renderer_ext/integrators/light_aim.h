@@ -19,6 +19,7 @@ namespace wv {
 template <class M>
 struct PlaneTarget {
   static constexpr bool kActive = true;
+  static constexpr bool kDenseEnd = true;  // a pilot only needs where it lands
   const M& m;
   V3 centre, normal;
   int sheet;

@@ -16,6 +16,7 @@ namespace wv {
 template <class M>
 struct SceneSurfaces {
   static constexpr bool kActive = true;
+  static constexpr bool kDenseEnd = false;  // the next segment leaves with the hit's momentum
   const M& m;
   const Scene& sc;
   double chord_tol;   // largest allowed sagitta of a chord (user-frame length)
@@ -34,8 +35,9 @@ struct SceneSurfaces {
     const int sa0 = m.chart_to_user(y, sheet, pa_);
     const int sb0 = m.chart_to_user(ynew, sheet, pb_);
     const V3 p0(pa_), p1(pb_);
-    // Quick reject: the step's end points and bulge lie outside the scene's bounding sphere.
-    st.dense(y, ynew, h, 0.5, ys);
+    // Quick reject: the step's end points and bulge lie outside the scene's bounding sphere. The bulge
+    // is the chord's distance from the arc's (cubic Hermite) midpoint.
+    st.midpoint(y, ynew, h, ys);
     m.chart_to_user(ys, sheet, pm_);
     const V3 pm(pm_);
     const double sag = length(pm - (p0 + p1) * 0.5);

@@ -16,6 +16,7 @@
 
 #include "core/registry.h"
 #include "core/simd.h"
+#include "spacetime/frame.h"
 #include "spacetime/metric.h"
 #include "spacetime/params.h"
 
@@ -40,6 +41,20 @@ struct EllisWormhole : MetricBase<EllisWormhole> {
       for (int b = 0; b < 4; ++b) gi[a][b] = T(0.0);
     gi[0][0] = T(-1.0);
     gi[1][1] = gi[2][2] = gi[3][3] = inv_om2;
+  }
+
+  // The static observer's frame in closed form: g = diag(-1, Omega^2, Omega^2, Omega^2), u = d_t, e_j = d_j / Omega.
+  bool closed_frame(const double* x, ObserverFrame& fr) const {
+    const double rho2 = x[1] * x[1] + x[2] * x[2] + x[3] * x[3];
+    const double om = 0.5 * (1.0 + b02 / rho2);
+    if (!(rho2 > 0.0) || !std::isfinite(om * om)) return false;
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) fr.g[a][b] = a != b ? 0.0 : (a == 0 ? -1.0 : om * om);
+    fr.u[0] = 1.0;
+    fr.u[1] = fr.u[2] = fr.u[3] = 0.0;
+    for (int j = 0; j < 3; ++j)
+      for (int mu = 0; mu < 4; ++mu) fr.e[j][mu] = mu == j + 1 ? 1.0 / om : 0.0;
+    return true;
   }
 
   // H = (-p_t^2 + |p|^2 / Omega^2) / 2;  d_i Omega = -b0^2 x_i / rho^4.

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/fastmath.h"
 #include "core/root.h"
 #include "spacetime/frame.h"
 #include "spacetime/metric.h"
@@ -49,11 +50,15 @@ struct RayResult {
 
 // Surfaces tested along each accepted step (none for plain geodesics). A surface set provides
 //   static constexpr bool kActive = true;
+//   static constexpr bool kDenseEnd;    // true: the state at a hit is the step's dense output there (enough
+//                                       // where only the hit point matters: pilots); false: a full-order
+//                                       // step to the hit
 //   template <class S> bool find(const S& stepper, const double* y, const double* ynew, double h, int sheet,
 //                                double& theta, int& prim);
 // returning the fraction theta of the step at which the path first crosses a surface.
 struct NoSurfaces {
   static constexpr bool kActive = false;
+  static constexpr bool kDenseEnd = false;
 };
 
 // One recorded polyline: xyz (3 per point, user frame) and `columns` values per point:
@@ -239,7 +244,7 @@ class GeodesicRay {
       r_h_ = o.backward ? m.capture_radius() : m.horizon_radius();
       // Seed RK4: the fixed base step is halved (powers of two) until it is at most kappa times the
       // distance to the centre, kappa = tol^(1/4) (global error ~ kappa^4).
-      kappa_ = std::min(0.1, std::max(1e-4, std::pow(o.tol, 0.25)));
+      if constexpr (!S::kAdaptive) kappa_ = std::min(0.1, std::max(1e-4, std::pow(o.tol, 0.25)));
       target_ = o.escape_radius;
       escaped_ = false;
       if (m.radius(y) >= o.escape_radius && moving_outward(m, y)) {  // starts outside, moving out
@@ -289,7 +294,7 @@ class GeodesicRay {
       return true;
     }
     if (S::kAdaptive && e > 1.0) {
-      h *= std::max(0.2, 0.9 * std::pow(e, -1.0 / S::kOrder));
+      h *= std::max(0.2, 0.9 * fast_exp(-fast_log(e) / S::kOrder));
       last_rejected_ = true;
       if (h < h_min) return finish(kNaN, y);
       return true;
@@ -311,7 +316,10 @@ class GeodesicRay {
       double theta;
       int prim;
       if (surfaces_ && surfaces_->find(st, y, ynew, h, sheet_, theta, prim)) {
-        st.attempt(m, y, theta * h, o.tol, ys);
+        if constexpr (Surf::kDenseEnd)
+          st.dense(y, ynew, h, theta, ys);
+        else
+          st.attempt(m, y, theta * h, o.tol, ys);
         const bool ok = monitor_at(ys);
         record(ys, lam_ + theta * h, theta * h);
         res.prim = prim;
@@ -383,8 +391,8 @@ class GeodesicRay {
     if constexpr (S::kAdaptive) {
       // PI step-size control (Gustafsson; Hairer & Wanner's constants).
       constexpr double beta = 0.04, alpha = 1.0 / S::kOrder - 0.75 * beta;
-      const double log_e = std::log(std::max(e, 1e-10));
-      double fac = 0.9 * std::exp(beta * log_err_prev_ - alpha * log_e);
+      const double log_e = fast_log(std::max(e, 1e-10));
+      double fac = 0.9 * fast_exp(beta * log_err_prev_ - alpha * log_e);
       fac = std::min(5.0, std::max(0.2, fac));
       if (last_rejected_) fac = std::min(fac, 1.0);
       h *= fac;

@@ -84,6 +84,11 @@ struct StepperLane {
   void dense(const double y[8], const double ynew[8], double h, double theta, double out[8]) const {
     scalar().dense(y, ynew, h, theta, out);
   }
+  // Read straight from the lanes: no gather of the stages.
+  void midpoint(const double y[8], const double ynew[8], double h, double out[8]) const {
+    for (int i = 0; i < 8; ++i)
+      out[i] = 0.5 * (y[i] + ynew[i]) + 0.125 * h * (batch->k[0][i][lane] - batch->k[kNew][i][lane]);
+  }
   // A partial step (to a crossing) overwrites the lane's stages, as it does a scalar stepper's.
   double attempt(const M& m, const double y[8], double h, double tol, double ynew[8]) {
     scalar();

@@ -60,6 +60,9 @@ class Spacetime {
   virtual std::string origin_problem(const double pos[3], int sheet) const = 0;
   // Initial state for a ray starting at pos (user frame) along unit direction dir of the local observer.
   virtual bool initial_state(const double pos[3], const double dir[3], int sheet, double y[8]) const = 0;
+  // The local observer's frame at chart point x (closed form where the metric has one, or the generic
+  // construction); false where there is none.
+  virtual bool observer_frame(const double x[4], bool generic, ObserverFrame& f) const = 0;
   virtual TraceResult trace(const TraceRequest& req) const = 0;
   // Path-traces `scene` (whose metric must be this one) with the given stepper.
   virtual RenderResult render(const Scene& scene, const RenderOptions& options, StepperKind stepper) const = 0;
@@ -86,12 +89,16 @@ class SpacetimeImpl final : public Spacetime {
     if (m_.absorbed(x)) return "lies inside the horizon (r = " + std::to_string(m_.radius(x)) +
                                " <= r+ = " + std::to_string(m_.horizon_radius()) + ")";
     ObserverFrame f;
-    if (!observer_frame(m_, x, f)) return "has no static or zero-angular-momentum observer there";
+    if (!wv::observer_frame(m_, x, f)) return "has no static or zero-angular-momentum observer there";
     return {};
   }
 
   bool initial_state(const double pos[3], const double dir[3], int sheet, double y[8]) const override {
     return photon_state(m_, pos, dir, sheet, y);
+  }
+
+  bool observer_frame(const double x[4], bool generic, ObserverFrame& f) const override {
+    return generic ? observer_frame_generic(m_, x, f) : wv::observer_frame(m_, x, f);
   }
 
   TraceResult trace(const TraceRequest& req) const override {

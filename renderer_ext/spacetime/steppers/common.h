@@ -7,6 +7,8 @@
 //   void accept()                                the trial step was accepted: reuse f(ynew)
 //   void dense(y, ynew, h, theta, out)           state at y + theta*h within the accepted step
 //   const double* derivative_new()               f(ynew) of the last trial step (for free H checks)
+//   void midpoint(y, ynew, h, out)               cheap estimate of the state halfway through the
+//                                                step (cubic Hermite), for bounding its arc
 //   static constexpr bool kAdaptive; static constexpr int kOrder;
 //
 // The steppers are templated over the value type T (double, or Lanes for a batch of rays, one per lane;
@@ -41,6 +43,12 @@ inline void hermite_dense(const double y0[8], const double f0[8], const double y
   const double t2 = theta * theta, t3 = t2 * theta;
   const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + theta, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
   for (int i = 0; i < 8; ++i) out[i] = h00 * y0[i] + h10 * h * f0[i] + h01 * y1[i] + h11 * h * f1[i];
+}
+
+// Halfway point of the cubic Hermite interpolant: (y0 + y1) / 2 + h (f0 - f1) / 8.
+inline void hermite_midpoint(const double y0[8], const double f0[8], const double y1[8], const double f1[8], double h,
+                             double out[8]) {
+  for (int i = 0; i < 8; ++i) out[i] = 0.5 * (y0[i] + y1[i]) + 0.125 * h * (f0[i] - f1[i]);
 }
 
 }  // namespace wv

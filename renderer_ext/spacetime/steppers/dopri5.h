@@ -64,6 +64,11 @@ struct Dopri5 {
     }
   }
 
+  // Halfway through the accepted step, from its end points alone (bounds the arc; cheaper than dense).
+  void midpoint(const double y[8], const double ynew[8], double h, double out[8]) const {
+    hermite_midpoint(y, k[0], ynew, k[6], h, out);
+  }
+
   const T* derivative_new() const { return k[kNew]; }
 
   void accept() {

@@ -39,6 +39,11 @@ struct Rk4 {
     hermite_dense(y, k[0], ynew, k[kNew], h, theta, out);
   }
 
+  // Halfway through the accepted step, from its end points alone (bounds the arc; cheaper than dense).
+  void midpoint(const double y[8], const double ynew[8], double h, double out[8]) const {
+    hermite_midpoint(y, k[0], ynew, k[kNew], h, out);
+  }
+
   const T* derivative_new() const { return k[kNew]; }
 
   void accept() {
