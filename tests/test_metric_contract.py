@@ -126,3 +126,24 @@ def test_no_observer_frame_inside_a_horizon():
     for name, params, x in [("schwarzschild", [1.0], [0, 1.5, 0, 0]), ("schwarzschild", [1.0], [0, 0, 0, 2.0])]:
         assert core.observer_frame(name, params, np.array(x, float)) is None
         assert core.observer_frame(name, params, np.array(x, float), generic=True) is None
+
+
+def test_kerr_frame_in_and_around_the_ergoregion():
+    """Kerr a = 0.9 M: the closed-form static frame outside the ergosurface (equatorial r_E = 2 M), the ZAMO
+    inside it down to the horizon r+ = 1.436 M, each equal to the generic construction and orthonormal."""
+    params = [1.0, 0.9]
+    for r_bl in (1.5, 1.9, 1.999, 2.001, 2.5, 10.0):
+        for theta in (np.pi / 2, 1.2, 0.3):
+            rho = np.sqrt(r_bl**2 + 0.81) * np.sin(theta)  # Kerr-Schild x^2 + y^2 = (r^2 + a^2) sin^2 theta
+            x = np.array([0.0, rho * np.cos(0.4), rho * np.sin(0.4), r_bl * np.cos(theta)])
+            fast = core.observer_frame("kerr", params, x)
+            slow = core.observer_frame("kerr", params, x, generic=True)
+            assert fast is not None and slow is not None
+            g, u, e = fast
+            static = np.allclose(u[1:], 0.0)
+            inside = r_bl < 1.0 + np.sqrt(1.0 - 0.81 * np.cos(theta) ** 2)
+            assert static != inside  # ZAMO (rotating) exactly inside the ergosurface
+            basis = np.vstack([u, e])
+            np.testing.assert_allclose(basis @ g @ basis.T, np.diag([-1.0, 1.0, 1.0, 1.0]), rtol=0, atol=1e-11)
+            for a, b in zip(fast, slow):
+                np.testing.assert_allclose(a, b, rtol=0, atol=1e-11 * max(1.0, np.max(np.abs(b))))

@@ -42,14 +42,18 @@ struct SceneSurfaces {
     const V3 pm(pm_);
     const double sag = length(pm - (p0 + p1) * 0.5);
     const double R = sc.bound_radius;
-    const double reach = std::min(std::min(length(p0), length(p1)), length(pm)) - length(p1 - p0) - sag;
-    if (reach > R) return false;
+    const double near2 = std::min(std::min(dot(p0, p0), dot(p1, p1)), dot(pm, pm));
+    if (near2 > R * R) {  // (inside the bounding sphere, as in a room, the reach test cannot pass: skip it)
+      const double reach = std::sqrt(near2) - length(p1 - p0) - sag;
+      if (reach > R) return false;
+    }
     // Broad phase: one BVH query for the primitives whose boxes meet the step's box, grown by the bulge.
     Box box;
     box.extend(p0);
     box.extend(p1);
     box.extend(pm);
-    const double pad = 1.5 * sag + 1e-9 * (1.0 + length(p1 - p0));
+    const V3 d01 = p1 - p0;
+    const double pad = 1.5 * sag + 1e-9 * (1.0 + std::fabs(d01.x) + std::fabs(d01.y) + std::fabs(d01.z));
     box.lo = box.lo - V3{pad, pad, pad};
     box.hi = box.hi + V3{pad, pad, pad};
     constexpr int kMaxCandidates = 32;

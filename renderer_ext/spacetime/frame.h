@@ -61,6 +61,27 @@ concept HasClosedFrame = requires(const M& m, const double* x, ObserverFrame& f)
   { m.closed_frame(x, f) } -> std::same_as<bool>;
 };
 
+// The static observer's frame of a Kerr-Schild metric g = eta + f l (x) l, l_mu = (1, l), |l| = 1, where
+// f < 1: u = d_t / sqrt(1 - f), and since the projected axes' Gram matrix is I + l l^T f / (1 - f), whose
+// inverse square root is I + (sqrt(1 - f) - 1) l l^T, the Lowdin triad is
+// e_j = f l_j / sqrt(1 - f) d_t + (delta_kj + (sqrt(1 - f) - 1) l_k l_j) d_k. False where f >= 1.
+inline bool kerr_schild_static_frame(double f, const double l[3], ObserverFrame& fr) {
+  if (!(f < 1.0)) return false;
+  const double s = std::sqrt(1.0 - f), c = s - 1.0;
+  fr.g[0][0] = f - 1.0;
+  for (int i = 0; i < 3; ++i) {
+    fr.g[0][i + 1] = fr.g[i + 1][0] = f * l[i];
+    for (int j = 0; j < 3; ++j) fr.g[i + 1][j + 1] = (i == j ? 1.0 : 0.0) + f * l[i] * l[j];
+  }
+  fr.u[0] = 1.0 / s;
+  fr.u[1] = fr.u[2] = fr.u[3] = 0.0;
+  for (int j = 0; j < 3; ++j) {
+    fr.e[j][0] = f * l[j] / s;
+    for (int k = 0; k < 3; ++k) fr.e[j][k + 1] = (j == k ? 1.0 : 0.0) + c * l[k] * l[j];
+  }
+  return true;
+}
+
 // Returns false where no static observer or ZAMO exists (inside a horizon) or the metric is singular.
 template <class M>
 bool observer_frame_generic(const M& m, const double x[4], ObserverFrame& f) {

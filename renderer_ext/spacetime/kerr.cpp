@@ -16,6 +16,7 @@
 
 #include "core/registry.h"
 #include "core/simd.h"
+#include "spacetime/frame.h"
 #include "spacetime/metric.h"
 #include "spacetime/params.h"
 
@@ -84,6 +85,16 @@ struct Kerr : MetricBase<Kerr> {
     dy[5] = hL2 * f_r * dr_x + fL * (L_x + L_r * dr_x);
     dy[6] = hL2 * f_r * dr_y + fL * (L_y + L_r * dr_y);
     dy[7] = hL2 * (f_r * dr_z + f_z) + fL * (L_z + L_r * dr_z);
+  }
+
+  // The static observer's frame in closed form (spacetime/frame.h) outside the ergosurface, where f < 1;
+  // the generic construction (the ZAMO) inside it.
+  bool closed_frame(const double* x, ObserverFrame& fr) const {
+    const double r = radius(x), s = r * r + a * a;
+    const double f = 2.0 * M * r * r * r / (r * r * r * r + a * a * x[3] * x[3]);
+    const double l[3] = {(r * x[1] + a * x[2]) / s, (r * x[2] - a * x[1]) / s, x[3] / r};
+    if (r > 0.0 && std::isfinite(f) && kerr_schild_static_frame(f, l, fr)) return true;
+    return observer_frame_generic(*this, x, fr);
   }
 
   double radius(const double* x) const { return bl_radius(x[1], x[2], x[3]); }

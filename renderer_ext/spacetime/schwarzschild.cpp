@@ -58,27 +58,12 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
     dy[7] = c * z + d * pz;
   }
 
-  // The static observer's frame (r > 2M) in closed form. With n = x / r the metric is
-  // g_tt = f - 1, g_ti = f n_i, g_ij = delta_ij + f n_i n_j; u = d_t / sqrt(1 - f); the projected axes'
-  // Gram matrix is I + n n^T f / (1 - f), whose inverse square root is I + (sqrt(1 - f) - 1) n n^T, so the
-  // Lowdin triad is e_j = f n_j / sqrt(1 - f) d_t + (delta_kj + (sqrt(1 - f) - 1) n_k n_j) d_k.
+  // The static observer's frame (r > 2M) in closed form (spacetime/frame.h), l = x / r.
   bool closed_frame(const double* x, ObserverFrame& fr) const {
-    const double r = radius(x), f = 2.0 * M / r;
-    if (!(f < 1.0) || !(r > 0.0)) return false;
-    const double n[3] = {x[1] / r, x[2] / r, x[3] / r};
-    const double s = std::sqrt(1.0 - f), c = s - 1.0;
-    fr.g[0][0] = f - 1.0;
-    for (int i = 0; i < 3; ++i) {
-      fr.g[0][i + 1] = fr.g[i + 1][0] = f * n[i];
-      for (int j = 0; j < 3; ++j) fr.g[i + 1][j + 1] = (i == j ? 1.0 : 0.0) + f * n[i] * n[j];
-    }
-    fr.u[0] = 1.0 / s;
-    fr.u[1] = fr.u[2] = fr.u[3] = 0.0;
-    for (int j = 0; j < 3; ++j) {
-      fr.e[j][0] = f * n[j] / s;
-      for (int k = 0; k < 3; ++k) fr.e[j][k + 1] = (j == k ? 1.0 : 0.0) + c * n[k] * n[j];
-    }
-    return true;
+    const double r = radius(x);
+    if (!(r > 0.0)) return false;
+    const double l[3] = {x[1] / r, x[2] / r, x[3] / r};
+    return kerr_schild_static_frame(2.0 * M / r, l, fr);
   }
 
   double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }
