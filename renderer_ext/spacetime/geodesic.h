@@ -50,9 +50,9 @@ struct RayResult {
 
 // Surfaces tested along each accepted step (none for plain geodesics). A surface set provides
 //   static constexpr bool kActive = true;
-//   static constexpr bool kDenseEnd;    // true: the state at a hit is the step's dense output there (enough
-//                                       // where only the hit point matters: pilots); false: a full-order
-//                                       // step to the hit
+//   static constexpr bool kDenseEnd;    // true: the state at a hit is the step's dense output there, where
+//                                       // only the hit point matters (pilots) and the stepper's dense output
+//                                       // is accurate (kAccurateDense); otherwise a full-order step to the hit
 //   template <class S> bool find(const S& stepper, const double* y, const double* ynew, double h, int sheet,
 //                                double& theta, int& prim);
 // returning the fraction theta of the step at which the path first crosses a surface.
@@ -316,7 +316,7 @@ class GeodesicRay {
       double theta;
       int prim;
       if (surfaces_ && surfaces_->find(st, y, ynew, h, sheet_, theta, prim)) {
-        if constexpr (Surf::kDenseEnd)
+        if constexpr (Surf::kDenseEnd && S::kAccurateDense)
           st.dense(y, ynew, h, theta, ys);
         else
           st.attempt(m, y, theta * h, o.tol, ys);

@@ -49,6 +49,7 @@ template <class M, class B>
 struct StepperLane {
   using Scalar = typename B::template Rebind<double>;
   static constexpr bool kAdaptive = Scalar::kAdaptive;
+  static constexpr bool kAccurateDense = Scalar::kAccurateDense;
   static constexpr int kOrder = Scalar::kOrder;
   static constexpr int kStages = B::kStages, kNew = B::kNew;
   B* batch = nullptr;

@@ -12,6 +12,7 @@ namespace wv {
 template <class M, class T = double>
 struct Dop853 {
   static constexpr bool kAdaptive = true;
+  static constexpr bool kAccurateDense = false;  // dense output: cubic Hermite: far less accurate than the step
   static constexpr int kOrder = 8;  // controller exponent 1/8
   static constexpr int S = dop853::kStages;
   static constexpr int kStages = S + 1, kNew = S;  // k[0] = f(y), k[S] = f(ynew)

@@ -10,6 +10,7 @@ namespace wv {
 template <class M, class T = double>
 struct Dopri5 {
   static constexpr bool kAdaptive = true;
+  static constexpr bool kAccurateDense = true;  // dense output: its continuous extension is as accurate as the step
   static constexpr int kOrder = 5;  // error estimate of order 4: controller exponent 1/5
   static constexpr int kStages = 7, kNew = 6;  // k[0] = f(y); k[6] = f(ynew) after attempt (FSAL)
   template <class U>

@@ -14,6 +14,7 @@ namespace wv {
 template <class M, class T = double>
 struct Rk4 {
   static constexpr bool kAdaptive = false;
+  static constexpr bool kAccurateDense = false;  // dense output: cubic Hermite
   static constexpr int kOrder = 4;
   static constexpr int kStages = 5, kNew = 4;  // k[0] = f(y), k[1..3] inner stages, k[4] = f(ynew)
   template <class U>
