@@ -1,4 +1,5 @@
-"""Write renderer_ext/spacetime/steppers/dop853_tableau.h from the published DOP853 coefficients.
+"""Write renderer_ext/spacetime/steppers/dop853_tableau.h from the published DOP853 coefficients
+(the method, its error estimates and its 7th-order dense output).
 
 The Dormand-Prince 8(5,3) coefficients (Hairer, Norsett & Wanner, "Solving Ordinary Differential
 Equations I", 2nd ed.) are taken as numbers from SciPy's copy of the table, so that the C++ stepper
@@ -37,6 +38,17 @@ lines += [
     "// Error weights over the kStages stages plus the FSAL stage f(y_new).",
     "constexpr double E3[kStages + 1] = {" + ", ".join(fmt(v) for v in c.E3) + "};",
     "constexpr double E5[kStages + 1] = {" + ", ".join(fmt(v) for v in c.E5) + "};",
+    "// 7th-order dense output: three more stages (after the kStages stages and f(y_new)) and the",
+    "// weights of the interpolant's four highest coefficients over all kExtended stages.",
+    f"constexpr int kExtended = {c.N_STAGES_EXTENDED};",
+    f"constexpr int kExtra = kExtended - kStages - 1;",
+    "constexpr double CX[kExtra] = {" + ", ".join(fmt(v) for v in c.C[n + 1 :]) + "};",
+    "constexpr double AX[kExtra][kExtended] = {",
+    *["    {" + ", ".join(fmt(v) for v in row) + "}," for row in c.A[n + 1 :]],
+    "};",
+    f"constexpr double D[{c.D.shape[0]}][kExtended] = {{",
+    *["    {" + ", ".join(fmt(v) for v in row) + "}," for row in c.D],
+    "};",
     "}  // namespace wv::dop853",
     "",
 ]

@@ -78,6 +78,10 @@ struct StepperLane {
     if (!cached) {
       for (int j = 0; j < kStages; ++j)
         for (int i = 0; i < 8; ++i) cache.k[j][i] = batch->k[j][i][lane];
+      if constexpr (requires { cache.dense_ready; }) {  // dop853: its dense output's extra stages
+        cache.metric = batch->metric;
+        cache.dense_ready = false;
+      }
       cached = true;
     }
     return cache;

@@ -1,6 +1,8 @@
 // Dormand-Prince 8(5,3): the high-accuracy reference stepper, with Hairer's combined 5th/3rd-order
 // error estimate. Twelve right-hand sides per accepted step (the 13th, f(ynew), is reused). Dense
-// output is the cubic Hermite interpolant of the step, enough to locate horizon and escape crossings.
+// output is Hairer's 7th-order interpolant (Solving ODEs I, II.6): three more right-hand sides, taken
+// only for a step whose dense output is asked for (a surface, horizon or escape crossing near it),
+// then shared by every evaluation within that step.
 #pragma once
 
 #include "spacetime/steppers/common.h"
@@ -12,17 +14,27 @@ namespace wv {
 template <class M, class T = double>
 struct Dop853 {
   static constexpr bool kAdaptive = true;
-  static constexpr bool kAccurateDense = false;  // dense output: cubic Hermite: far less accurate than the step
+  static constexpr bool kAccurateDense = true;  // dense output: 7th order, like the step
   static constexpr int kOrder = 8;  // controller exponent 1/8
   static constexpr int S = dop853::kStages;
   static constexpr int kStages = S + 1, kNew = S;  // k[0] = f(y), k[S] = f(ynew)
   template <class U>
   using Rebind = Dop853<M, U>;
   T k[kStages][8];
+  // Dense output of the last trial step (scalar steppers only): the metric for its extra stages, and
+  // its interpolant's coefficients once computed.
+  const M* metric = nullptr;
+  mutable bool dense_ready = false;
+  mutable double q[7][8];
 
-  void init(const M& m, const T y[8]) { m.rhs(y, k[0]); }
+  void init(const M& m, const T y[8]) {
+    m.rhs(y, k[0]);
+    dense_ready = false;
+  }
 
   WV_INLINE T attempt(const M& m, const T y[8], T h, T tol, T ynew[8]) {
+    metric = &m;
+    dense_ready = false;
     T t[8];
     for (int s = 1; s < S; ++s) {
       for (int i = 0; i < 8; ++i) {
@@ -55,8 +67,48 @@ struct Dop853 {
     return den == 0.0 ? T{} : e;
   }
 
+  // State at y + theta h within the last trial step (y -> ynew, step h):
+  // y + theta (q0 + (1 - theta) (q1 + theta (q2 + (1 - theta) (q3 + theta (q4 + (1 - theta) (q5 + theta q6)))))).
   void dense(const double y[8], const double ynew[8], double h, double theta, double out[8]) const {
-    hermite_dense(y, k[0], ynew, k[S], h, theta, out);
+    if (!dense_ready) prepare_dense(y, ynew, h);
+    const double th1 = 1.0 - theta;
+    for (int i = 0; i < 8; ++i) {
+      double v = q[6][i] * theta;
+      v = (v + q[5][i]) * th1;
+      v = (v + q[4][i]) * theta;
+      v = (v + q[3][i]) * th1;
+      v = (v + q[2][i]) * theta;
+      v = (v + q[1][i]) * th1;
+      out[i] = y[i] + (v + q[0][i]) * theta;
+    }
+  }
+
+  // The three extra stages and the interpolant's coefficients.
+  void prepare_dense(const double y[8], const double ynew[8], double h) const {
+    using namespace dop853;
+    double kx[kExtra][8], t[8];
+    auto stage = [&](int j, int i) { return j <= S ? k[j][i] : kx[j - S - 1][i]; };
+    for (int e = 0; e < kExtra; ++e) {
+      const int s = S + 1 + e;
+      for (int i = 0; i < 8; ++i) {
+        double acc = 0.0;
+        for (int j = 0; j < s; ++j) acc += AX[e][j] * stage(j, i);
+        t[i] = y[i] + h * acc;
+      }
+      metric->rhs(t, kx[e]);
+    }
+    for (int i = 0; i < 8; ++i) {
+      const double dy = ynew[i] - y[i];
+      q[0][i] = dy;
+      q[1][i] = h * k[0][i] - dy;
+      q[2][i] = 2.0 * dy - h * (k[S][i] + k[0][i]);
+      for (int r = 0; r < 4; ++r) {
+        double acc = 0.0;
+        for (int j = 0; j < kExtended; ++j) acc += D[r][j] * stage(j, i);
+        q[3 + r][i] = h * acc;
+      }
+    }
+    dense_ready = true;
   }
 
   // Halfway through the accepted step, from its end points alone (bounds the arc; cheaper than dense).
@@ -68,6 +120,7 @@ struct Dop853 {
 
   void accept() {
     for (int i = 0; i < 8; ++i) k[0][i] = k[S][i];
+    dense_ready = false;
   }
 };
 
