@@ -75,8 +75,8 @@ def trace(
         far the step is halved near the mass: no step exceeds ``tol ** 0.25`` times the distance to
         the centre. Default 1e-9.
     stepper : {"dopri5", "dop853", "rk4"}, keyword-only
-        ``dopri5`` (default, adaptive with dense output), ``dop853`` (high-accuracy reference), ``rk4``
-        (the seed paper's fixed step with halving: the benchmark baseline).
+        ``dopri5`` (default, adaptive with dense output), ``dop853`` (high-accuracy reference, with a
+        7th-order dense output), ``rk4`` (the seed paper's fixed step with halving: the benchmark baseline).
     max_steps : int, keyword-only
         Step attempts allowed per ray before it ends with status ``max_steps``.
     escape_radius : float, keyword-only

@@ -10,8 +10,8 @@
 //   void midpoint(y, ynew, h, out)               cheap estimate of the state halfway through the
 //                                                step (cubic Hermite), for bounding its arc
 //   static constexpr bool kAdaptive; static constexpr int kOrder;
-//   static constexpr bool kAccurateDense;        dense output about as accurate as a step (dopri5's
-//                                                continuous extension) rather than cubic Hermite
+//   static constexpr bool kAccurateDense;        dense output about as accurate as a step (the continuous
+//                                                extensions of dopri5 and dop853), not cubic Hermite (rk4)
 //
 // The steppers are templated over the value type T (double, or Lanes for a batch of rays, one per lane;
 // ray_batch.h). Their whole state is `T k[kStages][8]`: k[0] = f(y) at the start of the step, k[kNew] =
