@@ -145,6 +145,22 @@ bool moving_outward(const M& m, const double y[8]) {
   return y[1] * f[1] + y[2] * f[2] + y[3] * f[3] > 0.0;
 }
 
+// The step controller's transcendental part, from the scaled error e of a trial step and log_prev, the
+// log error kept from the last accepted step: log(max(e, 1e-10)) and the factors by which h changes after
+// accepting (PI control: Gustafsson; Hairer & Wanner's constants) or rejecting the step, before clamping.
+// T is double, or Lanes when a batch computes them for all its rays at once (the same bits either way).
+template <class T>
+struct StepFactors {
+  T log_e, accept, reject;
+};
+
+template <int Order, class T>
+WV_INLINE StepFactors<T> step_factors(T e, T log_prev) {
+  constexpr double beta = 0.04, alpha = 1.0 / Order - 0.75 * beta;
+  const T log_e = fast_log(max_of(e, T{} + 1e-10));  // (NaN -> 1e-10: such a step is rejected anyway)
+  return {log_e, 0.9 * fast_exp(beta * log_prev - alpha * log_e), 0.9 * fast_exp(log_e * (-1.0 / Order))};
+}
+
 // Straight line to the escape sphere: Minkowski needs no integration at all.
 template <class M>
 void straight_ray(const M& m, const double y[8], int sheet, const TraceOptions& o, RayResult& res, Track* track) {
@@ -200,6 +216,7 @@ class GeodesicRay {
   static constexpr int K = M::kNumInvariants;
   double y[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // state to step from
   double h = 0.0;                          // step to attempt next
+  double log_err_prev = 0.0;               // step control: log error of the last accepted step (>= 1e-4)
 
   // Sets up the ray from state y0 (chart coordinates, covariant momentum) on `sheet`. Returns false if
   // the ray ended already (flat space, a non-finite start, or already beyond its escape target).
@@ -258,7 +275,7 @@ class GeodesicRay {
       // rejected first attempt is cheaper than the 3-4 steps of growing from a small guess (16 % fewer
       // steps in a curved room, whose segments are short).
       h = S::kAdaptive ? max_step(r_) : rk4_step_for(r_);
-      log_err_prev_ = kLogErrFloor;
+      log_err_prev = kLogErrFloor;
       monitor_every_ = o.monitor_every > 0 ? o.monitor_every : (track || o.tol < 1e-8) ? 1 : 4;
       last_rejected_ = false;
       reinit_ = false;
@@ -282,6 +299,11 @@ class GeodesicRay {
   // or accepts it, checks surfaces, horizon, escape and the conserved quantities, and sets up the
   // next attempt. Returns false when the ray has ended (its RayResult is complete).
   bool advance(S& st, double e, const double ynew[8]) {
+    return advance(st, e, step_factors<S::kOrder>(e, log_err_prev), ynew);
+  }
+
+  // The same, with the step factors of e computed already (by a batch, for all its rays).
+  bool advance(S& st, double e, const StepFactors<double>& f, const double ynew[8]) {
     const M& m = *m_;
     const TraceOptions& o = *o_;
     RayResult& res = *res_;
@@ -294,7 +316,7 @@ class GeodesicRay {
       return true;
     }
     if (S::kAdaptive && e > 1.0) {
-      h *= std::max(0.2, 0.9 * fast_exp(-fast_log(e) / S::kOrder));
+      h *= std::max(0.2, f.reject);
       last_rejected_ = true;
       if (h < h_min) return finish(kNaN, y);
       return true;
@@ -389,14 +411,11 @@ class GeodesicRay {
     }
     reinit_ = false;
     if constexpr (S::kAdaptive) {
-      // PI step-size control (Gustafsson; Hairer & Wanner's constants).
-      constexpr double beta = 0.04, alpha = 1.0 / S::kOrder - 0.75 * beta;
-      const double log_e = fast_log(std::max(e, 1e-10));
-      double fac = 0.9 * fast_exp(beta * log_err_prev_ - alpha * log_e);
-      fac = std::min(5.0, std::max(0.2, fac));
+      // PI step-size control (step_factors).
+      double fac = std::min(5.0, std::max(0.2, f.accept));
       if (last_rejected_) fac = std::min(fac, 1.0);
       h *= fac;
-      log_err_prev_ = e >= 1e-4 ? log_e : kLogErrFloor;  // log(max(e, 1e-4))
+      log_err_prev = e >= 1e-4 ? f.log_e : kLogErrFloor;  // log(max(e, 1e-4))
       h = std::min(h, max_step(r_));
     } else {
       h = rk4_step_for(r_);
@@ -494,7 +513,7 @@ class GeodesicRay {
     return std::cbrt(10.0 * ell * ell * b / o_->tol);
   }
 
-  static inline const double kLogErrFloor = std::log(1e-4);
+  static inline const double kLogErrFloor = fast_log(1e-4);
   const M* m_ = nullptr;
   const TraceOptions* o_ = nullptr;
   RayResult* res_ = nullptr;
@@ -506,7 +525,6 @@ class GeodesicRay {
   double r_h_ = 0.0, kappa_ = 0.1, target_ = 0.0, r_ = 0.0;
   bool escaped_ = false;  // crossed the escape sphere; still integrating for the direction
   double escape_pos_[3] = {0, 0, 0};
-  double log_err_prev_ = 0.0;
   bool last_rejected_ = false, reinit_ = false;
   long attempts_ = 0;
   int monitor_every_ = 1;

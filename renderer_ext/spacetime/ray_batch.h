@@ -38,9 +38,10 @@ using BatchOf = typename S::template Rebind<Lanes>;
 // One trial step of every lane of batch stepper B (a stepper over Lanes); compiled for AVX-512, AVX2 and
 // baseline x86-64 (chosen at load time).
 template <class M, class B>
-WV_LANE_CLONES void lanes_attempt(const M& m, B& st, const Lanes* y, const Lanes* h, const Lanes* tol, Lanes* ynew,
-                                  Lanes* err) {
+WV_LANE_CLONES void lanes_attempt(const M& m, B& st, const Lanes* y, const Lanes* h, const Lanes* tol,
+                                  const Lanes* log_prev, Lanes* ynew, Lanes* err, StepFactors<Lanes>* f) {
   *err = st.attempt(m, y, *h, *tol, ynew);
+  *f = step_factors<B::kOrder>(*err, *log_prev);  // every lane's step control at once
 }
 
 // One lane of batch stepper B seen as a scalar stepper (the interface of steppers/common.h). Dense output
@@ -110,9 +111,10 @@ template <class M, class B>
 struct LaneJob {
   virtual ~LaneJob() = default;
   // advance() then next() of the ray: false when it has ended.
-  virtual bool step(StepperLane<M, B>& st, double err, const double ynew[8]) = 0;
-  double* y = nullptr;  // the ray's state to step from
-  double* h = nullptr;  // the step to attempt
+  virtual bool step(StepperLane<M, B>& st, double err, const StepFactors<double>& f, const double ynew[8]) = 0;
+  double* y = nullptr;         // the ray's state to step from
+  double* h = nullptr;         // the step to attempt
+  double* log_prev = nullptr;  // its step control's log error
   double tol = 1e-9;    // its error tolerance
   std::coroutine_handle<> waiter;
 };
@@ -125,11 +127,12 @@ struct LaneRay final : LaneJob<M, B> {
              Surf* surfaces = nullptr) {
     this->y = ray.y;
     this->h = &ray.h;
+    this->log_prev = &ray.log_err_prev;
     this->tol = o.tol;
     return ray.begin(m, y0, sheet, o, res, track, surfaces) && ray.next();
   }
-  bool step(StepperLane<M, B>& st, double err, const double ynew[8]) override {
-    return ray.advance(st, err, ynew) && ray.next();
+  bool step(StepperLane<M, B>& st, double err, const StepFactors<double>& f, const double ynew[8]) override {
+    return ray.advance(st, err, f, ynew) && ray.next();
   }
 };
 
@@ -140,7 +143,8 @@ struct LaneRay final : LaneJob<M, B> {
 template <class M, class B, class Fill, class Done>
 void run_lanes(const M& m, const Fill& fill, const Done& done) {
   B st;
-  Lanes y[8], h, tol, ynew[8], err;
+  Lanes y[8], h, tol, log_prev, ynew[8], err;
+  StepFactors<Lanes> f;
   StepperLane<M, B> view[kLanes];
   LaneJob<M, B>* job[kLanes];
   int n_active = 0;
@@ -162,6 +166,7 @@ void run_lanes(const M& m, const Fill& fill, const Done& done) {
         for (int i = 0; i < 8; ++i) y[i][l] = job[l]->y[i];
         h[l] = *job[l]->h;
         tol[l] = job[l]->tol;
+        log_prev[l] = *job[l]->log_prev;
       }
     // Idle lanes repeat an active one, so they compute on sane numbers; their results are ignored.
     for (int l = 0; l < kLanes; ++l)
@@ -172,14 +177,15 @@ void run_lanes(const M& m, const Fill& fill, const Done& done) {
         }
         h[l] = h[some];
         tol[l] = tol[some];
+        log_prev[l] = log_prev[some];
       }
-    lanes_attempt(m, st, y, &h, &tol, ynew, &err);
+    lanes_attempt(m, st, y, &h, &tol, &log_prev, ynew, &err, &f);
     for (int l = 0; l < kLanes; ++l) view[l].invalidate();
     for (int l = 0; l < kLanes; ++l) {
       if (!job[l]) continue;
       double yn[8];
       for (int i = 0; i < 8; ++i) yn[i] = ynew[i][l];
-      if (job[l]->step(view[l], err[l], yn)) continue;
+      if (job[l]->step(view[l], err[l], {f.log_e[l], f.accept[l], f.reject[l]}, yn)) continue;
       done(job[l], l);
       if (!refill(l)) --n_active;
     }
