@@ -51,6 +51,7 @@ DEFAULT_OPTIONS = {
     "max_drift": None,  # max(1e-6, 1e3 * tol)
     "chord_tolerance": 1e-3,
     "aim_lights": True,  # curved space: aim light samples with pilot geodesics (integrators/light_aim.h)
+    "light_margin": True,  # ... and enlarge quad/disk light proxies by the aim's correction (lensed images)
     "pilot_tol": 1e-4,  # tolerance of those pilots (at least tol); they only aim, so it cannot bias
     "batch": True,  # curved space: many samples' geodesics step together in SIMD lanes (same image either way)
 }
@@ -77,6 +78,7 @@ def render(
     stepper: str | None = None,
     tol: float | None = None,
     aim_lights: bool | None = None,
+    light_margin: bool | None = None,
     pilot_tol: float | None = None,
     batch: bool | None = None,
     progress: Callable[[int, int], object] | None = None,
@@ -113,6 +115,11 @@ def render(
     aim_lights : bool, optional, keyword-only
         In curved space, aim the light connection with two pilot geodesics per light and vertex so the
         sampled directions land on the lights despite bending (default True). Unbiased either way.
+    light_margin : bool, optional, keyword-only
+        With ``aim_lights``, enlarge the proxy each quad or disk light is sampled from by the pilots' aim
+        correction relative to the light's size, at most 1.5x (default True): a lensed image is larger
+        than the light, and the part of it outside the proxy is found by BSDF sampling alone, as
+        fireflies. Fewer light samples reach the light, but the noise is lower. Unbiased either way.
     pilot_tol : float, optional, keyword-only
         Integration tolerance of those pilot geodesics (default 1e-4; never tighter than ``tol`` is
         needed). They only decide where light samples are aimed, so their accuracy changes the noise,
@@ -139,7 +146,8 @@ def render(
     """
     native, options, source = _resolve(scene, flat=flat, width=width, height=height, paper=paper)
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
-                 "stepper": stepper, "tol": tol, "aim_lights": aim_lights, "pilot_tol": pilot_tol,
+                 "stepper": stepper, "tol": tol, "aim_lights": aim_lights,
+                 "light_margin": light_margin, "pilot_tol": pilot_tol,
                  "batch": batch}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:

@@ -158,6 +158,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.trace.max_drift = option<double>(options, "max_drift", std::max(1e-6, 1e3 * o.trace.tol));
   o.chord_tol = option<double>(options, "chord_tolerance", 1e-3);
   o.aim_lights = option<bool>(options, "aim_lights", true);
+  o.light_margin = option<bool>(options, "light_margin", true);
   o.pilot_tol = option<double>(options, "pilot_tol", 1e-4);
   o.batch = option<bool>(options, "batch", true);
   o.threads = option<int>(options, "threads", 0);

@@ -8,6 +8,7 @@
 // estimator stays unbiased whatever the geodesic then hits; bending only costs variance.
 //
 // Quads and disks are sampled uniformly by area on their affine image under L (pdf = dist^2 / (A' cos')),
+// optionally scaled about their centre by `scale` (a margin for a lensed image larger than the light),
 // spheres uniformly in the cone subtended by the sphere.
 #pragma once
 
@@ -83,18 +84,18 @@ struct PlanarProxy {
   }
 };
 
-inline PlanarProxy planar_proxy(const Scene& sc, const Prim& pr, V3 x, const LinearMap& L) {
+inline PlanarProxy planar_proxy(const Scene& sc, const Prim& pr, V3 x, const LinearMap& L, double scale) {
   PlanarProxy q;
   if (pr.kind == PrimKind::kQuad) {
     const Quad& qd = sc.quads[pr.index];
-    q.o = L(qd.corner - x);
-    q.la = L(qd.eu);
-    q.lb = L(qd.ev);
+    q.o = L(qd.corner - (qd.eu + qd.ev) * (0.5 * (scale - 1.0)) - x);  // scaled about its centre
+    q.la = L(qd.eu * scale);
+    q.lb = L(qd.ev * scale);
   } else {
     const Disk& k = sc.disks[pr.index];
     q.o = L(k.center - x);
-    q.la = L(k.axis_u);
-    q.lb = L(k.axis_v);
+    q.la = L(k.axis_u * scale);
+    q.lb = L(k.axis_v * scale);
     q.disk = true;
     q.r_in = k.r_in;
     q.r_out = k.r_out;
@@ -110,7 +111,7 @@ inline PlanarProxy planar_proxy(const Scene& sc, const Prim& pr, V3 x, const Lin
 
 // Samples a local direction towards light prim p from user-frame point x. Returns false on failure.
 inline bool sample_light(const Scene& sc, int p, V3 x, const LinearMap& L, double u1, double u2, V3& w,
-                         double& pdf) {
+                         double& pdf, double scale = 1.0) {
   const Prim& pr = sc.prims[p];
   if (pr.kind == PrimKind::kSphere) {
     const detail::ConeProxy c = detail::cone_proxy(sc.spheres[pr.index], x, L);
@@ -123,7 +124,7 @@ inline bool sample_light(const Scene& sc, int p, V3 x, const LinearMap& L, doubl
     pdf = c.pdf();
     return true;
   }
-  const detail::PlanarProxy q = detail::planar_proxy(sc, pr, x, L);
+  const detail::PlanarProxy q = detail::planar_proxy(sc, pr, x, L, scale);
   double s = u1, r = u2;  // quad: uniform in [0, 1]^2; disk: uniform by area in the annulus
   if (q.disk) {
     const double rho = std::sqrt(q.r_in * q.r_in + u1 * (q.r_out * q.r_out - q.r_in * q.r_in));
@@ -140,14 +141,14 @@ inline bool sample_light(const Scene& sc, int p, V3 x, const LinearMap& L, doubl
 }
 
 // Solid-angle pdf with which sample_light(p, x, L) produces local direction w.
-inline double light_pdf(const Scene& sc, int p, V3 x, const LinearMap& L, V3 w) {
+inline double light_pdf(const Scene& sc, int p, V3 x, const LinearMap& L, V3 w, double scale = 1.0) {
   const Prim& pr = sc.prims[p];
   if (pr.kind == PrimKind::kSphere) {
     const detail::ConeProxy c = detail::cone_proxy(sc.spheres[pr.index], x, L);
     if (!c.valid || 1.0 - dot(w, c.axis) > c.omc) return 0.0;
     return c.pdf();
   }
-  const detail::PlanarProxy q = detail::planar_proxy(sc, pr, x, L);
+  const detail::PlanarProxy q = detail::planar_proxy(sc, pr, x, L, scale);
   double s, r, tau;
   if (!detail::plane_solve(q.o, q.la, q.lb, w, s, r, tau) || tau <= 0.0 || !q.contains(s, r)) return 0.0;
   return q.pdf(w, tau * tau);
