@@ -45,7 +45,7 @@ DEFAULT_OPTIONS = {
     "rr_depth": 3,
     "light_sampling": True,
     "stepper": "dopri5",
-    "tol": 1e-7,  # image error ~3e-5 at the 99th percentile (benchmarks/README.md)
+    "tol": 1e-7,  # image error ~5e-5 at the 99th percentile (benchmarks/README.md)
     "max_steps": 20000,
     "escape_radius": 1e3,
     "max_drift": None,  # max(1e-6, 1e3 * tol)
