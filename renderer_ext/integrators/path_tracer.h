@@ -761,7 +761,8 @@ class PathTracer {
         double pl_one;
         const int lp = sc_.lights[li];
         const V3 from = aimed.at(size_t(li));
-        if (sc_.prims[lp].sheet == e.sheet && sample_light(sc_, lp, from, e.to_local, u1, u2, wl, pl_one, aimed.scale_of(size_t(li)))) {
+        if (sc_.prims[lp].sheet == e.sheet &&
+            sample_light(sc_, lp, from, e.to_local, u1, u2, wl, pl_one, aimed.scale_of(size_t(li)))) {
           double pb;
           const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
           const double pl = lights_pdf(aimed, e.sheet, e.to_local, wl);
