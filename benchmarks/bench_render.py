@@ -11,7 +11,8 @@ hole (M = 2.5, a = 0.9) or an Ellis throat (b0 = 5) in the middle. Sections:
    other seeds, its own noise estimated from two halves and subtracted) at several spp; since
    RMSE^2 * time is constant for a Monte Carlo estimator, ``time_ratio`` = (MSE * t)_brute /
    (MSE * t)_light is how much longer brute force takes for the same error, and its square root the
-   RMSE ratio at equal time.
+   RMSE ratio at equal time; in curved rooms also the light connection without its light margin
+   (``light_margin=False``).
 3. **image work-precision** — per-pixel error of a frame against a dop853 tol 1e-12 frame with the
    same seed and spp (the Monte Carlo noise cancels, what is left is the geodesics' error) against CPU
    time, per stepper and tol 1e-4 ... 1e-10 (``rk4`` uses the renderer's base step 1 M with halving):
@@ -135,19 +136,31 @@ def light_reach(scene: dict, *, spp: int, stride: int = 2) -> float:
     return float(on.mean()) if len(ends) else math.nan
 
 
+#: The estimators compared: name -> render options. "no margin" is the light connection with its aimed
+#: proxies at the light's own size (``light_margin=False``; the same as the light connection in flat space).
+ESTIMATORS = {
+    "light connection": {"light_sampling": True},
+    "brute force": {"light_sampling": False},
+    "no margin": {"light_sampling": True, "light_margin": False},
+}
+
+
 def light_connection(cfg: dict, *, threads: int) -> list[dict]:
-    """Relative RMSE against a reference at equal spp and its CPU time, both estimators, flat and curved."""
+    """Relative RMSE against a reference at equal spp and its CPU time, for each estimator (``no margin``
+    in curved rooms only), flat and curved."""
     rows = []
     for name, ref_spp in cfg["ref_spp"].items():
         scene = room(name, cfg["size"])
         ref, ref_mse = reference(scene, ref_spp, seed=10_001)
         scale = float(ref.mean())
-        for light_sampling in (True, False):
+        for estimator, options in ESTIMATORS.items():
+            if estimator == "no margin" and name == "flat":
+                continue
             for spp in cfg["spps"]:
-                img, cpu, wall = render_timed(scene, threads=threads, spp=spp, seed=1, light_sampling=light_sampling)
+                img, cpu, wall = render_timed(scene, threads=threads, spp=spp, seed=1, **options)
                 mse = max(float(np.mean((img.rgb.astype(np.float64) - ref) ** 2)) - ref_mse, 1e-30)
                 rows.append({
-                    "scene": name, "estimator": "light connection" if light_sampling else "brute force", "spp": spp,
+                    "scene": name, "estimator": estimator, "spp": spp,
                     "width": cfg["size"][0], "height": cfg["size"][1], "reference_spp": ref_spp, "cpu_s": cpu,
                     "wall_s": wall, "samples_per_s_per_core": samples(scene, spp) / cpu,
                     "rel_rmse": math.sqrt(mse) / scale, "rel_rmse_reference_noise": math.sqrt(ref_mse) / scale,
@@ -158,16 +171,18 @@ def light_connection(cfg: dict, *, threads: int) -> list[dict]:
 
 def light_summary(rows: list[dict], cfg: dict) -> list[dict]:
     """Per scene: brute force's time factor for equal error (geometric mean over spp), RMSE ratio at
-    equal time, and how many light-connection segments reach the light."""
+    equal time, how many light-connection segments reach the light, and (curved rooms) the time factor
+    of the light connection without its light margin."""
     out = []
     for name in dict.fromkeys(r["scene"] for r in rows):
         reach = light_reach(room(name, cfg["size"]), spp=cfg["spps"][0])
         cost = {est: np.exp(np.mean([math.log(r["mse_times_cpu_s"]) for r in rows
-                                     if r["scene"] == name and r["estimator"] == est]))
-                for est in ("light connection", "brute force")}  # fmt: skip
+                                     if r["scene"] == name and r["estimator"] == est] or [math.nan]))
+                for est in ESTIMATORS}  # fmt: skip
         ratio = cost["brute force"] / cost["light connection"]
         out.append({"scene": name, "brute_force_time_for_equal_error": ratio,
-                    "rmse_ratio_at_equal_time": math.sqrt(ratio), "light_segments_reaching_light": reach})
+                    "rmse_ratio_at_equal_time": math.sqrt(ratio), "light_segments_reaching_light": reach,
+                    "no_margin_time_for_equal_error": cost["no margin"] / cost["light connection"]})  # fmt: skip
     return out
 
 
@@ -293,9 +308,10 @@ def plot(tp: list[dict], lc: list[dict], wp: list[dict], out: Path) -> list[Path
     scenes = list(dict.fromkeys(r["scene"] for r in lc))
     fig, axes = plt.subplots(1, len(scenes), figsize=(5.2 * len(scenes), 4), squeeze=False)
     for ax, name in zip(axes[0], scenes):
-        for est, marker in (("light connection", "o"), ("brute force", "s")):
+        for est, marker in (("light connection", "o"), ("brute force", "s"), ("no margin", "^")):
             pts = sorted((r["cpu_s"], r["rel_rmse"]) for r in lc if r["scene"] == name and r["estimator"] == est)
-            ax.loglog(*zip(*pts), marker=marker, label=est)
+            if pts:
+                ax.loglog(*zip(*pts), marker=marker, label=est)
         ax.set_xlabel("CPU seconds (1 core)")
         ax.set_ylabel("relative RMSE vs reference")
         ax.set_title(f"{name} room")
@@ -375,6 +391,9 @@ def main(argv=None) -> dict[str, list[dict]]:
         print(f"{r['scene']}: brute force needs {r['brute_force_time_for_equal_error']:.1f}x the time of the light "
               f"connection for equal RMSE (RMSE {r['rmse_ratio_at_equal_time']:.2f}x at equal time); "
               f"{100 * r['light_segments_reaching_light']:.0f}% of light connections reach the light")  # fmt: skip
+        if math.isfinite(r["no_margin_time_for_equal_error"]):
+            print(f"{r['scene']}: without the light margin the light connection needs "
+                  f"{r['no_margin_time_for_equal_error']:.2f}x the time for equal RMSE")
 
     wp = image_precision(cfg["precision"], threads=args.threads)
     add_image_speedups(wp)

@@ -7,6 +7,7 @@ import math
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
@@ -134,6 +135,10 @@ def test_render_error_shrinks_with_tolerance_and_noise_with_spp(render):
     flat = next(r for r in result["light_summary"] if r["scene"] == "flat")
     assert flat["brute_force_time_for_equal_error"] > 3  # the light connection pays off in the flat room
     assert flat["light_segments_reaching_light"] == 1.0  # nothing stands between the walls and the lamp
+    # the light margin is compared where it acts: in curved rooms (flat proxies are exact)
+    assert {r["scene"] for r in result["light_connection"] if r["estimator"] == "no margin"} == {"schwarzschild"}
+    curved = next(r for r in result["light_summary"] if r["scene"] == "schwarzschild")
+    assert np.isfinite(curved["no_margin_time_for_equal_error"]) and np.isnan(flat["no_margin_time_for_equal_error"])
 
 
 @pytest.mark.skipif(importlib.util.find_spec("mitsuba") is None, reason="mitsuba is not installed")
