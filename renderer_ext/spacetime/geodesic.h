@@ -154,11 +154,24 @@ struct StepFactors {
   T log_e, accept, reject;
 };
 
+template <class T>
+WV_INLINE T step_log_error(T e) {
+  return fast_log(max_of(e, T{} + 1e-10));  // (NaN -> 1e-10: such a step is rejected anyway)
+}
+template <int Order, class T>
+WV_INLINE T accept_factor(T log_e, T log_prev) {
+  constexpr double beta = 0.04, alpha = 1.0 / Order - 0.75 * beta;
+  return 0.9 * fast_exp(beta * log_prev - alpha * log_e);
+}
+template <int Order, class T>
+WV_INLINE T reject_factor(T log_e) {
+  return 0.9 * fast_exp(log_e * (-1.0 / Order));
+}
+// All three at once, for a batch (its lanes need both factors); a lone ray computes only the one it uses.
 template <int Order, class T>
 WV_INLINE StepFactors<T> step_factors(T e, T log_prev) {
-  constexpr double beta = 0.04, alpha = 1.0 / Order - 0.75 * beta;
-  const T log_e = fast_log(max_of(e, T{} + 1e-10));  // (NaN -> 1e-10: such a step is rejected anyway)
-  return {log_e, 0.9 * fast_exp(beta * log_prev - alpha * log_e), 0.9 * fast_exp(log_e * (-1.0 / Order))};
+  const T log_e = step_log_error(e);
+  return {log_e, accept_factor<Order>(log_e, log_prev), reject_factor<Order>(log_e)};
 }
 
 // Straight line to the escape sphere: Minkowski needs no integration at all.
@@ -299,7 +312,13 @@ class GeodesicRay {
   // or accepts it, checks surfaces, horizon, escape and the conserved quantities, and sets up the
   // next attempt. Returns false when the ray has ended (its RayResult is complete).
   bool advance(S& st, double e, const double ynew[8]) {
-    return advance(st, e, step_factors<S::kOrder>(e, log_err_prev), ynew);
+    StepFactors<double> f{0.0, 0.0, 0.0};
+    if constexpr (S::kAdaptive) {  // only the factor this step uses (the same bits as step_factors)
+      f.log_e = step_log_error(e);
+      if (e > 1.0) f.reject = reject_factor<S::kOrder>(f.log_e);
+      else f.accept = accept_factor<S::kOrder>(f.log_e, log_err_prev);
+    }
+    return advance(st, e, f, ynew);
   }
 
   // The same, with the step factors of e computed already (by a batch, for all its rays).
@@ -334,7 +353,8 @@ class GeodesicRay {
     ++res.n_steps;
     h_scale_ = std::max(h_scale_, hp.mag);
     if constexpr (Surf::kActive) {
-      // Surface hit: located on the dense output, the state there from a full-order step.
+      // Surface hit: located on the dense output; the state there from a full-order step, or the dense
+      // output itself where only the hit point matters (kDenseEnd).
       double theta;
       int prim;
       if (surfaces_ && surfaces_->find(st, y, ynew, h, sheet_, theta, prim)) {

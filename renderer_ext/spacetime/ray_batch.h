@@ -17,6 +17,7 @@
 
 #include "core/simd.h"
 #include "spacetime/geodesic.h"
+#include "spacetime/steppers/common.h"
 
 namespace wv {
 
@@ -41,7 +42,7 @@ template <class M, class B>
 WV_LANE_CLONES void lanes_attempt(const M& m, B& st, const Lanes* y, const Lanes* h, const Lanes* tol,
                                   const Lanes* log_prev, Lanes* ynew, Lanes* err, StepFactors<Lanes>* f) {
   *err = st.attempt(m, y, *h, *tol, ynew);
-  *f = step_factors<B::kOrder>(*err, *log_prev);  // every lane's step control at once
+  if constexpr (B::kAdaptive) *f = step_factors<B::kOrder>(*err, *log_prev);  // all lanes at once
 }
 
 // One lane of batch stepper B seen as a scalar stepper (the interface of steppers/common.h). Dense output
@@ -90,10 +91,14 @@ struct StepperLane {
   void dense(const double y[8], const double ynew[8], double h, double theta, double out[8]) const {
     scalar().dense(y, ynew, h, theta, out);
   }
-  // Read straight from the lanes: no gather of the stages.
+  // From the lane's end-point derivatives only: no gather of its other stages.
   void midpoint(const double y[8], const double ynew[8], double h, double out[8]) const {
-    for (int i = 0; i < 8; ++i)
-      out[i] = 0.5 * (y[i] + ynew[i]) + 0.125 * h * (batch->k[0][i][lane] - batch->k[kNew][i][lane]);
+    double f0[8], f1[8];
+    for (int i = 0; i < 8; ++i) {
+      f0[i] = batch->k[0][i][lane];
+      f1[i] = batch->k[kNew][i][lane];
+    }
+    hermite_midpoint(y, f0, ynew, f1, h, out);
   }
   // A partial step (to a crossing) overwrites the lane's stages, as it does a scalar stepper's.
   double attempt(const M& m, const double y[8], double h, double tol, double ynew[8]) {
@@ -144,7 +149,7 @@ template <class M, class B, class Fill, class Done>
 void run_lanes(const M& m, const Fill& fill, const Done& done) {
   B st;
   Lanes y[8], h, tol, log_prev, ynew[8], err;
-  StepFactors<Lanes> f;
+  StepFactors<Lanes> f{};
   StepperLane<M, B> view[kLanes];
   LaneJob<M, B>* job[kLanes];
   int n_active = 0;
