@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from warpviz._native import core
+from warpviz._native import testing as core
 
 N_Z = np.array([0.0, 0.0, 1.0])
 WO = np.array([0.6, 0.0, 0.8])  # 36.87 degrees from the normal

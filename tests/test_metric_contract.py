@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import warpviz as wv
-from warpviz._native import core
+from warpviz._native import testing as core
 from warpviz.metrics import _CLASSES
 
 from conftest import metric_instances

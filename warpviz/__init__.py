@@ -27,7 +27,17 @@ from warpviz.geometry import (
 )
 from warpviz.image import Image
 from warpviz.io import atomic_write, read_rays, write_vtm, write_vtp
-from warpviz.metrics import EllisWormhole, Kerr, Metric, Minkowski, Schwarzschild, metric_from_dict
+from warpviz.metrics import (
+    METRIC_CLASSES,
+    EllisWormhole,
+    Kerr,
+    Metric,
+    Minkowski,
+    Schwarzschild,
+    metric_class,
+    metric_from_dict,
+    metric_from_params,
+)
 from warpviz.rays import RayBundle, RayStatus
 from warpviz.render import render
 from warpviz.scene import Scene, SceneError, load_scene
@@ -36,6 +46,10 @@ from warpviz.viewer import view
 
 __version__ = "0.1.0"
 
+# Every metric compiled into the core is a public class, also those without a hand-written Python class
+# (a new metric file in renderer_ext/metrics/ is wv.<its kClassName> with no Python edit).
+globals().update(METRIC_CLASSES)
+
 __all__ = [
     # spacetimes and geodesics
     "EllisWormhole",
@@ -43,7 +57,10 @@ __all__ = [
     "Metric",
     "Minkowski",
     "Schwarzschild",
+    "metric_class",
     "metric_from_dict",
+    "metric_from_params",
+    *METRIC_CLASSES,
     "STEPPERS",
     "RayBundle",
     "RayStatus",

@@ -17,9 +17,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from warpviz._native import registered_metrics
 from warpviz.geometry import camera_frustum, ellis_embedding_points, metric_features, scene_surfaces
-from warpviz.metrics import EllisWormhole, Metric, metric_from_dict
+from warpviz.metrics import Metric, metric_from_dict, metric_from_params, metric_names
 from warpviz.rays import RayBundle
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -38,13 +37,8 @@ def _as_metric(spec: Metric | Mapping[str, Any]) -> Metric:
     if isinstance(spec, Metric):
         return spec
     spec = dict(spec)
-    if isinstance(spec.get("params"), (list, tuple, np.ndarray)):
-        for entry in registered_metrics():
-            if entry["name"] == spec.get("name"):
-                values = [float(v) for v in spec["params"]]
-                if len(values) != len(entry["params"]):
-                    raise ValueError(f"metric {spec['name']!r} takes parameters {entry['params']}, got {values}")
-                return metric_from_dict({"name": spec["name"], **dict(zip(entry["params"], values))})
+    if isinstance(spec.get("params"), (list, tuple, np.ndarray)) and spec.get("name") in metric_names():
+        return metric_from_params(spec["name"], [float(v) for v in spec["params"]])
     return metric_from_dict(spec)
 
 
@@ -105,7 +99,7 @@ def scene_multiblock(
         blocks["surfaces"] = scene_surfaces(native_scene)
     if the_metric is not None:
         blocks.update(metric_features(the_metric, resolution=resolution))
-    if isinstance(the_metric, EllisWormhole) and "rays" in blocks and "sheet" in blocks["rays"].point_data:
+    if the_metric is not None and "embedding" in blocks and "rays" in blocks and "sheet" in blocks["rays"].point_data:
         embedded = blocks["rays"].copy()
         embedded.points = ellis_embedding_points(the_metric, embedded.points, embedded.point_data["sheet"])
         blocks["embedding_rays"] = embedded

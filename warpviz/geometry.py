@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from warpviz.metrics import EllisWormhole, Kerr, Metric, Schwarzschild
+from warpviz.metrics import Metric
 
 if TYPE_CHECKING:  # pragma: no cover
     import pyvista as pv
@@ -44,8 +44,6 @@ __all__ = [
     "throat_surface",
 ]
 
-#: Below this |a|/M the Kerr photon region (width ≈ 2.3 |a|) is drawn as the sphere r = 3M.
-_NONROTATING = 1e-12
 
 
 # --------------------------------------------------------------------------------------------------
@@ -175,14 +173,14 @@ def horizon_surface(metric: Metric, *, resolution: int = 64) -> pv.PolyData:
     [1.897366596101, 1.897366596101, 1.8]
     """
     resolution = _check_resolution(resolution)
-    if not isinstance(metric, (Schwarzschild, Kerr)):
+    marks = metric.landmarks
+    if "horizon" not in marks:
         raise ValueError(f"{metric!r} has no horizon")
-    a = metric.a if isinstance(metric, Kerr) else 0.0
     theta = _theta(resolution)
-    return _kerr_schild_surface(np.full_like(theta, metric.horizon_radius), theta, a, resolution)
+    return _kerr_schild_surface(np.full_like(theta, marks["horizon"]), theta, marks.get("spin", 0.0), resolution)
 
 
-def ergosphere_surface(metric: Kerr, *, resolution: int = 64) -> pv.PolyData:
+def ergosphere_surface(metric: Metric, *, resolution: int = 64) -> pv.PolyData:
     """The outer boundary of Kerr's ergoregion (the static limit).
 
     Boyer–Lindquist r_E(θ) = M + √(M² − a² cos²θ), mapped to Kerr–Schild Cartesian coordinates:
@@ -213,18 +211,13 @@ def ergosphere_surface(metric: Kerr, *, resolution: int = 64) -> pv.PolyData:
     (1.8, 2.0)
     """
     resolution = _check_resolution(resolution)
-    if not isinstance(metric, Kerr):
-        raise ValueError(f"{metric!r} has no ergosphere (only Kerr does)")
+    marks = metric.landmarks
+    if "ergosphere" not in marks:
+        raise ValueError(f"{metric!r} has no ergosphere (only a rotating black hole does)")
     theta = _theta(resolution)
-    r = np.array([metric.ergosphere_radius(t) for t in theta])
-    return _kerr_schild_surface(r, theta, metric.a, resolution)
-
-
-def _kerr_polar_orbit_radius(m: float, a: float) -> float:
-    """Boyer–Lindquist radius of the spherical photon orbit with zero angular momentum (it passes over
-    the poles): the largest root of r³ − 3Mr² + a²r + a²M = 0."""
-    s = math.sqrt(m * m - a * a / 3.0)
-    return m + 2.0 * s * math.cos(math.acos(min(1.0, m * (m * m - a * a) / s**3)) / 3.0)
+    m, a = marks["mass"], marks["spin"]
+    r = m + np.sqrt(np.maximum(m * m - (a * np.cos(theta)) ** 2, 0.0))
+    return _kerr_schild_surface(r, theta, a, resolution)
 
 
 def _kerr_photon_region_cos2(m: float, a: float, r: np.ndarray) -> np.ndarray:
@@ -281,16 +274,15 @@ def photon_sphere(metric: Metric, *, resolution: int = 64) -> pv.PolyData:
     (True, True)
     """
     resolution = _check_resolution(resolution)
-    if not isinstance(metric, (Schwarzschild, Kerr)):
-        raise ValueError(f"{metric!r} has no photon sphere")
-    m = metric.mass
-    a = metric.a if isinstance(metric, Kerr) else 0.0
-    if abs(a) <= _NONROTATING * m:
+    marks = metric.landmarks
+    if "photon_sphere" in marks:
         theta = _theta(resolution)
-        return _kerr_schild_surface(np.full_like(theta, 3.0 * m), theta, a, resolution)
-
-    pro, retro = metric.photon_orbit_radii
-    polar = _kerr_polar_orbit_radius(m, a)
+        return _kerr_schild_surface(np.full_like(theta, marks["photon_sphere"]), theta, marks.get("spin", 0.0),
+                                    resolution)  # fmt: skip
+    if "photon_prograde" not in marks:
+        raise ValueError(f"{metric!r} has no photon sphere")
+    m, a = marks["mass"], marks["spin"]
+    pro, retro, polar = marks["photon_prograde"], marks["photon_retrograde"], marks["photon_polar"]
     # sin² spacing: the wall leaves the equator like sqrt(r - r_orbit), so this samples it evenly
     t = np.sin(np.linspace(0.0, 0.5 * math.pi, max(resolution // 4, 2) + 1)) ** 2
     r_up = np.concatenate([pro + (polar - pro) * t, polar + (retro - polar) * t[1:]])
@@ -307,7 +299,7 @@ def photon_sphere(metric: Metric, *, resolution: int = 64) -> pv.PolyData:
     return _revolve(rho, z, n_phi=resolution, closed=True).polydata(r=_per_point(r_loop, rho, resolution))
 
 
-def throat_surface(metric: EllisWormhole, *, resolution: int = 64) -> pv.PolyData:
+def throat_surface(metric: Metric, *, resolution: int = 64) -> pv.PolyData:
     """The throat of an Ellis wormhole: the sphere of areal radius b₀ where the two sheets meet.
 
     Parameters
@@ -328,13 +320,13 @@ def throat_surface(metric: EllisWormhole, *, resolution: int = 64) -> pv.PolyDat
     2.0
     """
     resolution = _check_resolution(resolution)
-    if not isinstance(metric, EllisWormhole):
-        raise ValueError(f"{metric!r} has no throat (only EllisWormhole does)")
+    if "throat" not in metric.landmarks:
+        raise ValueError(f"{metric!r} has no throat (only a wormhole does)")
     theta = _theta(resolution)
-    return _kerr_schild_surface(np.full_like(theta, metric.throat), theta, 0.0, resolution)
+    return _kerr_schild_surface(np.full_like(theta, metric.landmarks["throat"]), theta, 0.0, resolution)
 
 
-def ellis_embedding(metric: EllisWormhole, *, l_max: float | None = None, resolution: int = 64) -> pv.PolyData:
+def ellis_embedding(metric: Metric, *, l_max: float | None = None, resolution: int = 64) -> pv.PolyData:
     """Embedding diagram of the Ellis wormhole's equatorial plane, both sheets.
 
     The slice t = const, θ = π/2 has dl² + (b₀² + l²) dφ²; it is the surface of revolution with
@@ -364,9 +356,9 @@ def ellis_embedding(metric: EllisWormhole, *, l_max: float | None = None, resolu
     ([-1, 1], True)
     """
     resolution = _check_resolution(resolution)
-    if not isinstance(metric, EllisWormhole):
+    if "throat" not in metric.landmarks:
         raise ValueError(f"{metric!r} is not an Ellis wormhole")
-    b0 = metric.throat
+    b0 = metric.landmarks["throat"]
     l_max = 10.0 * b0 if l_max is None else float(l_max)
     if not (l_max > 0.0 and math.isfinite(l_max)):
         raise ValueError(f"l_max must be a positive finite length, got {l_max!r}")
@@ -379,7 +371,7 @@ def ellis_embedding(metric: EllisWormhole, *, l_max: float | None = None, resolu
     )
 
 
-def ellis_embedding_points(metric: EllisWormhole, points: Any, sheet: Any) -> np.ndarray:
+def ellis_embedding_points(metric: Metric, points: Any, sheet: Any) -> np.ndarray:
     """Map positions on an Ellis wormhole onto its embedding diagram (:func:`ellis_embedding`).
 
     A point at areal radius R = |x| on sheet s has l = s √(R² − b₀²); it goes to the point of the
@@ -407,7 +399,7 @@ def ellis_embedding_points(metric: EllisWormhole, points: Any, sheet: Any) -> np
     >>> ellis_embedding_points(wv.EllisWormhole(throat=1.0), [[0, 5.0, 0], [5.0, 0, 0]], [1, -1]).round(6).tolist()
     [[0.0, 5.0, 2.292432], [5.0, 0.0, -2.292432]]
     """
-    if not isinstance(metric, EllisWormhole):
+    if "throat" not in metric.landmarks:
         raise ValueError(f"{metric!r} is not an Ellis wormhole")
     points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     sheet = np.asarray(sheet).reshape(-1)
@@ -415,7 +407,7 @@ def ellis_embedding_points(metric: EllisWormhole, points: Any, sheet: Any) -> np
         raise ValueError(f"sheet must have one entry per point ({points.shape[0]}), got {sheet.shape[0]}")
     if not np.all((sheet == 1) | (sheet == -1)):
         raise ValueError("sheet entries must be +1 or -1")
-    b0 = metric.throat
+    b0 = metric.landmarks["throat"]
     radius = np.maximum(np.linalg.norm(points, axis=1), b0)
     ell = np.where(sheet > 0, 1.0, -1.0) * np.sqrt(radius * radius - b0 * b0)
     phi = np.arctan2(points[:, 1], points[:, 0])
@@ -444,18 +436,18 @@ def metric_features(metric: Metric, *, resolution: int = 64) -> dict[str, pv.Pol
     >>> list(metric_features(wv.Schwarzschild(mass=1.0)))
     ['horizon', 'photon_sphere']
     """
-    if isinstance(metric, (Schwarzschild, Kerr)):
-        features = {"horizon": horizon_surface(metric, resolution=resolution)}
-        if isinstance(metric, Kerr) and metric.a != 0.0:
-            features["ergosphere"] = ergosphere_surface(metric, resolution=resolution)
+    marks = metric.landmarks  # from the core's registry: what this spacetime has
+    features = {}
+    if "horizon" in marks:
+        features["horizon"] = horizon_surface(metric, resolution=resolution)
+    if "ergosphere" in marks:
+        features["ergosphere"] = ergosphere_surface(metric, resolution=resolution)
+    if "photon_sphere" in marks or "photon_prograde" in marks:
         features["photon_sphere"] = photon_sphere(metric, resolution=resolution)
-        return features
-    if isinstance(metric, EllisWormhole):
-        return {
-            "throat": throat_surface(metric, resolution=resolution),
-            "embedding": ellis_embedding(metric, resolution=resolution),
-        }
-    return {}
+    if "throat" in marks:
+        features["throat"] = throat_surface(metric, resolution=resolution)
+        features["embedding"] = ellis_embedding(metric, resolution=resolution)
+    return features
 
 
 # --------------------------------------------------------------------------------------------------

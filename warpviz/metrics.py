@@ -14,11 +14,12 @@ Examples
 
 from __future__ import annotations
 
+import inspect
 import math
 import numbers
 from typing import Any, ClassVar
 
-from warpviz._native import registered_metrics
+from warpviz._native import core, registered_metrics
 
 
 def _real(cls: str, key: str, value: Any) -> float:
@@ -30,15 +31,51 @@ def _real(cls: str, key: str, value: Any) -> float:
     return value
 
 
-def _positive(cls: str, key: str, value: Any) -> float:
-    value = _real(cls, key, value)
-    if value <= 0.0:
-        raise ValueError(f"{cls}: {key} must be > 0, got {value}")
+def _range_text(spec: dict) -> str:
+    """The allowed range of a parameter spec in words: ``> 0``, ``|spin| < 1``, ``in [0, 2)``."""
+    lo, hi = spec["lo"], spec["hi"]
+    lo_op, hi_op = (">" if spec["lo_open"] else ">="), ("<" if spec["hi_open"] else "<=")
+    if math.isinf(hi):
+        return f"{lo_op} {lo:g}"
+    if math.isinf(lo):
+        return f"{hi_op} {hi:g}"
+    if lo == -hi and spec["lo_open"] == spec["hi_open"]:
+        return f"|{spec['name']}| {hi_op} {hi:g}"
+    return f"in {'(' if spec['lo_open'] else '['}{lo:g}, {hi:g}{')' if spec['hi_open'] else ']'}"
+
+
+def _in_range(spec: dict, value: float) -> bool:
+    above = value > spec["lo"] if spec["lo_open"] else value >= spec["lo"]
+    below = value < spec["hi"] if spec["hi_open"] else value <= spec["hi"]
+    return above and below
+
+
+def _check_param(cls: str, spec: dict, value: Any) -> float:
+    """``value`` as a float if it is allowed for ``spec`` (a registry parameter spec), else a clear error."""
+    value = _real(cls, spec["name"], value)
+    if not _in_range(spec, value):
+        rule = _range_text(spec)
+        if rule.startswith("|"):
+            raise ValueError(f"{cls}: {spec['name']} must satisfy {rule}, got {value} ({spec['doc']})")
+        raise ValueError(f"{cls}: {spec['name']} must be {rule}, got {value} ({spec['doc']})")
     return value
 
 
+def _entry(name: str) -> dict:
+    for entry in registered_metrics():
+        if entry["name"] == name:
+            return entry
+    raise RuntimeError(f"metric {name!r} is not compiled into the core")  # pragma: no cover
+
+
 class Metric:
-    """Base class of the spacetimes. Instances are immutable and compare by value.
+    """Base class of the spacetimes, built from the core's registry. Instances are immutable values.
+
+    Every metric compiled into the core (``renderer_ext/metrics/``) has a class: a hand-written subclass
+    where it adds closed-form helpers (:class:`Schwarzschild`, :class:`Kerr`, ...), otherwise one made
+    from the registry entry (``wv.ReissnerNordstrom``). Parameters are keyword-only; their names, ranges
+    and defaults are the registry's (``registered_metrics()[i]["param_specs"]``), and a relation between
+    them (such as ``|Q| < M``) is checked by the core.
 
     Attributes
     ----------
@@ -50,13 +87,40 @@ class Metric:
 
     name: ClassVar[str] = ""
     _param_names: ClassVar[tuple[str, ...]] = ()
+    _specs: ClassVar[tuple[dict, ...]] = ()
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if cls.name:
+            entry = _entry(cls.name)
+            cls._specs = tuple(dict(s) for s in entry["param_specs"])
+            cls._param_names = tuple(s["name"] for s in cls._specs)
+            if "__init__" not in cls.__dict__:  # a signature that names the registry's parameters
+
+                def __init__(self, **params: float) -> None:
+                    Metric.__init__(self, **params)
+
+                kw = [inspect.Parameter(s["name"], inspect.Parameter.KEYWORD_ONLY, default=s["default"], annotation=float)
+                      for s in cls._specs]  # fmt: skip
+                __init__.__signature__ = inspect.Signature(
+                    [inspect.Parameter("self", inspect.Parameter.POSITIONAL_ONLY), *kw])
+                __init__.__doc__ = f"{cls.__name__}: {entry['summary']}."
+                cls.__init__ = __init__
+
+    def __init__(self, **params: float):
+        cls = type(self).__name__
+        unknown = set(params) - set(self._param_names)
+        if unknown:
+            raise TypeError(f"{cls}: unknown parameter(s) {sorted(unknown)}; parameters are {list(self._param_names)}")
+        values = {s["name"]: _check_param(cls, s, params.get(s["name"], s["default"])) for s in self._specs}
+        problem = core.params_problem(self.name, list(values.values()))
+        if problem:
+            raise ValueError(f"{cls}: {problem.split(': ', 1)[-1]}")
+        for k, v in values.items():
+            object.__setattr__(self, k, v)
 
     def __setattr__(self, key, value):
         raise AttributeError(f"{type(self).__name__} is immutable")
-
-    def _set(self, **values: float) -> None:
-        for k, v in values.items():
-            object.__setattr__(self, k, v)
 
     @property
     def params(self) -> dict[str, float]:
@@ -67,21 +131,45 @@ class Metric:
         return [getattr(self, k) for k in self._param_names]
 
     @property
+    def registry_entry(self) -> dict:
+        """The core's facts about this metric (name, class name, summary, parameter specs, invariants,
+        sheets, flatness, whether a hand-written right-hand side runs in SIMD lanes)."""
+        return _entry(self.name)
+
+    @property
     def invariant_names(self) -> list[str]:
         """Conserved quantities monitored along rays; the first is always ``"H"``."""
-        for entry in registered_metrics():
-            if entry["name"] == self.name:
-                return list(entry["invariants"])
-        raise RuntimeError(f"metric {self.name!r} is not compiled into the core")  # pragma: no cover
+        return list(self.registry_entry["invariants"])
+
+    @property
+    def landmarks(self) -> dict[str, float]:
+        """Landmark radii from the core, only those the spacetime has (``renderer_ext/spacetime/landmarks.h``).
+
+        Keys among ``horizon``, ``inner_horizon``, ``capture`` (where backward camera rays are captured),
+        ``photon_sphere``, ``photon_prograde`` / ``photon_retrograde`` / ``photon_polar`` (a rotating
+        hole's photon region), ``ergosphere`` (its equatorial radius), ``throat``, ``mass`` (length scale)
+        and ``spin`` (a, a length). Radii are the metric's radial coordinate (areal, or Boyer–Lindquist).
+        """
+        cached = self.__dict__.get("_landmarks")
+        if cached is None:
+            raw = core.landmarks(self.name, self.param_values)
+            cached = {k: float(v) for k, v in dict(raw).items() if v != 0.0}
+            object.__setattr__(self, "_landmarks", cached)
+        return dict(cached)
 
     @property
     def horizon_radius(self) -> float:
         """Radius of the outer event horizon (0 if there is none)."""
-        return 0.0
+        return self.landmarks.get("horizon", 0.0)
 
     @property
     def is_flat(self) -> bool:
-        return False
+        return bool(self.registry_entry["flat"])
+
+    @property
+    def sheets(self) -> int:
+        """Sheets the user sees as separate Cartesian frames (2 for a wormhole)."""
+        return int(self.registry_entry["sheets"])
 
     def to_dict(self) -> dict[str, Any]:
         """``{"name": ..., **params}``, the form scene files and VTK field data use."""
@@ -103,10 +191,6 @@ class Minkowski(Metric):
 
     name = "minkowski"
 
-    @property
-    def is_flat(self) -> bool:
-        return True
-
 
 class Schwarzschild(Metric):
     """Non-rotating black hole of mass ``mass`` (Cartesian Kerr–Schild coordinates).
@@ -118,18 +202,10 @@ class Schwarzschild(Metric):
     """
 
     name = "schwarzschild"
-    _param_names = ("mass",)
-
-    def __init__(self, *, mass: float = 1.0):
-        self._set(mass=_positive("Schwarzschild", "mass", mass))
-
-    @property
-    def horizon_radius(self) -> float:
-        return 2.0 * self.mass
 
     @property
     def photon_sphere_radius(self) -> float:
-        return 3.0 * self.mass
+        return self.landmarks["photon_sphere"]
 
     @property
     def critical_impact_parameter(self) -> float:
@@ -158,26 +234,11 @@ class Kerr(Metric):
     """
 
     name = "kerr"
-    _param_names = ("mass", "spin")
-
-    def __init__(self, *, mass: float = 1.0, spin: float = 0.0):
-        mass = _positive("Kerr", "mass", mass)
-        spin = _real("Kerr", "spin", spin)
-        if not abs(spin) < 1.0:
-            raise ValueError(
-                f"Kerr: spin must satisfy |spin| < 1, got {spin} (|a/M| >= 1 has no horizon: a naked singularity)"
-            )
-        self._set(mass=mass, spin=spin)
 
     @property
     def a(self) -> float:
         """Spin parameter a = spin · M (a length)."""
         return self.spin * self.mass
-
-    @property
-    def horizon_radius(self) -> float:
-        """Outer horizon r+ = M + √(M² − a²) (Boyer–Lindquist r)."""
-        return self.mass + math.sqrt((self.mass - self.a) * (self.mass + self.a))
 
     def ergosphere_radius(self, theta: float) -> float:
         """Outer ergosurface r = M + √(M² − a² cos²θ) at polar angle ``theta``."""
@@ -205,13 +266,61 @@ class EllisWormhole(Metric):
     """
 
     name = "ellis"
-    _param_names = ("throat",)
-
-    def __init__(self, *, throat: float = 1.0):
-        self._set(throat=_positive("EllisWormhole", "throat", throat))
 
 
-_CLASSES: dict[str, type[Metric]] = {c.name: c for c in (Minkowski, Schwarzschild, Kerr, EllisWormhole)}
+def _generated_class(entry: dict) -> type[Metric]:
+    """A Metric class for a registry entry that has no hand-written one (a new metric file needs no Python)."""
+    specs = "\n".join(f"    {s['name']} : float, default {s['default']:g}\n        {s['doc']}." for s in entry["param_specs"])
+    relation = f"\n\n    The parameters must satisfy {entry['param_relation']}." if entry["param_relation"] else ""
+    doc = f"{entry['summary']}.{relation}\n\n    Parameters\n    ----------\n{specs}\n" if specs else f"{entry['summary']}."
+    return type(entry["class_name"], (Metric,), {"name": entry["name"], "__doc__": doc, "__module__": __name__})
+
+
+_HAND_WRITTEN = (Minkowski, Schwarzschild, Kerr, EllisWormhole)
+
+#: Every metric compiled into the core, by registry name, in registration order.
+_CLASSES: dict[str, type[Metric]] = {}
+for _e in registered_metrics():
+    _CLASSES[_e["name"]] = next((c for c in _HAND_WRITTEN if c.name == _e["name"]), None) or _generated_class(_e)
+del _e
+
+#: The same classes by Python class name (``"Kerr"``, ``"ReissnerNordstrom"``), exported by ``warpviz``.
+METRIC_CLASSES: dict[str, type[Metric]] = {c.__name__: c for c in _CLASSES.values()}
+
+
+def metric_names() -> list[str]:
+    """Registry names of every metric compiled into the core, in registration order."""
+    return list(_CLASSES)
+
+
+def metric_class(name: str) -> type[Metric]:
+    """The Metric class of registry name ``name``.
+
+    Raises
+    ------
+    ValueError
+        Unknown name, naming the known ones.
+    """
+    if name not in _CLASSES:
+        raise ValueError(f"unknown metric {name!r}; known metrics: {', '.join(sorted(_CLASSES))}")
+    return _CLASSES[name]
+
+
+def metric_from_params(name: str, values) -> Metric:
+    """Build a metric from its registry name and parameter values in registry order (the native form
+    ``{"name", "params": [...]}`` of scenes and VTK field data).
+
+    Raises
+    ------
+    ValueError
+        Unknown name, a wrong number of values, or invalid values.
+    """
+    cls = metric_class(name)
+    values = list(values)
+    if len(values) != len(cls._param_names):
+        raise ValueError(f"{cls.__name__} takes {len(cls._param_names)} parameter(s) {list(cls._param_names)}, "
+                         f"got {len(values)}")  # fmt: skip
+    return cls(**dict(zip(cls._param_names, values)))
 
 
 def metric_from_dict(spec: dict[str, Any]) -> Metric:
@@ -223,10 +332,7 @@ def metric_from_dict(spec: dict[str, Any]) -> Metric:
         Unknown name or parameter, naming the known ones.
     """
     spec = dict(spec)
-    name = spec.pop("name", None)
-    if name not in _CLASSES:
-        raise ValueError(f"unknown metric {name!r}; known metrics: {', '.join(sorted(_CLASSES))}")
-    cls = _CLASSES[name]
+    cls = metric_class(spec.pop("name", None))
     unknown = set(spec) - set(cls._param_names)
     if unknown:
         raise ValueError(

@@ -25,6 +25,7 @@ A diffuse white sphere under a uniform white sky, in flat space, reflects exactl
 from __future__ import annotations
 
 import copy
+import math
 import os
 from collections.abc import Callable
 
@@ -32,8 +33,9 @@ import numpy as np
 
 from warpviz._native import core
 from warpviz.image import Image
-from warpviz.metrics import metric_from_dict
+from warpviz.metrics import metric_from_params
 from warpviz.rays import RayBundle, recorded_point_data
+from warpviz.trace import STEPPERS, default_max_drift
 
 __all__ = ["render", "DEFAULT_OPTIONS"]
 
@@ -45,16 +47,29 @@ DEFAULT_OPTIONS = {
     "rr_depth": 3,
     "light_sampling": True,
     "stepper": "dopri5",
-    "tol": 1e-7,  # image error ~5e-5 at the 99th percentile (benchmarks/README.md)
+    # 1e-7, looser than trace()'s 1e-9: a pixel averages many paths, and at 1e-7 the image error is
+    # already ~5e-5 at the 99th percentile, far below the noise of any spp a frame uses
+    # (benchmarks/README.md, image work-precision); a single traced ray is looked at on its own.
+    "tol": 1e-7,
     "max_steps": 20000,
     "escape_radius": 1e3,
-    "max_drift": None,  # max(1e-6, 1e3 * tol)
+    "max_drift": None,  # warpviz.trace.default_max_drift(tol)
     "chord_tolerance": 1e-3,
     "aim_lights": True,  # curved space: aim light samples with pilot geodesics (integrators/light_aim.h)
     "light_margin": True,  # ... and enlarge quad/disk light proxies by the aim's correction (lensed images)
     "pilot_tol": 1e-4,  # tolerance of those pilots (at least tol); they only aim, so it cannot bias
     "batch": True,  # curved space: many samples' geodesics step together in SIMD lanes (same image either way)
 }
+
+
+def _real_in(name: str, value, lo: float, hi: float) -> float:
+    """value as a float in the open interval (lo, hi), else a ValueError naming the option."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    value = float(value)
+    if not (lo < value < hi):
+        raise ValueError(f"{name} must be in ({lo:g}, {hi:g}), got {value!r}")
+    return value
 
 
 def _positive_int(name: str, value, *, allow_zero: bool = False) -> int:
@@ -156,8 +171,18 @@ def render(
         options[key] = _positive_int(key, options[key])
     options["seed"] = _positive_int("seed", options["seed"], allow_zero=True)
     options["rr_depth"] = _positive_int("rr_depth", options["rr_depth"])
-    if options["max_drift"] is None:
-        options["max_drift"] = max(1e-6, 1e3 * float(options["tol"]))
+    for key, lo, hi in (("tol", 0.0, 1.0), ("pilot_tol", 0.0, 1.0), ("chord_tolerance", 0.0, math.inf),
+                        ("escape_radius", 0.0, math.inf)):  # fmt: skip
+        options[key] = _real_in(key, options[key], lo, hi)
+    options["max_steps"] = _positive_int("max_steps", options["max_steps"])
+    for key in ("light_sampling", "aim_lights", "light_margin", "batch"):
+        if not isinstance(options[key], (bool, np.bool_)):
+            raise ValueError(f"{key} must be True or False, got {options[key]!r}")
+        options[key] = bool(options[key])
+    if options["stepper"] not in STEPPERS:
+        raise ValueError(f"unknown stepper {options['stepper']!r} (known: {', '.join(STEPPERS)})")
+    options["max_drift"] = (default_max_drift(options["tol"]) if options["max_drift"] is None
+                            else _real_in("max_drift", options["max_drift"], 0.0, math.inf))  # fmt: skip
     options["threads"] = _positive_int("threads", threads, allow_zero=True)
     if progress is not None and not callable(progress):
         raise ValueError("progress must be a callable(done, total)")
@@ -203,10 +228,7 @@ def render(
 
 def _metric(spec: dict):
     """The Metric of a native ``{"name", "params": [...]}`` entry."""
-    from warpviz.metrics import _CLASSES
-
-    cls = _CLASSES[spec["name"]]
-    return metric_from_dict({"name": spec["name"], **dict(zip(cls._param_names, spec.get("params", [])))})
+    return metric_from_params(spec["name"], spec.get("params", []))
 
 
 def _plain(d):

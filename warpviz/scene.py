@@ -51,7 +51,6 @@ RENDER_OPTION_KEYS = (
 DEFAULT_SIZE = (96, 72)
 
 # allowed range of each metric parameter: (low, high), both exclusive
-_METRIC_RANGES = {"mass": (0.0, math.inf), "spin": (-1.0, 1.0), "throat": (0.0, math.inf)}
 
 _REQUIRED = object()
 
@@ -444,7 +443,7 @@ def _build(r: _Reader, data: dict, *, path: Path | None) -> Scene:
         raise r.error(("version",), why)
     description = r.string(data, (), "description", "")
     metric = _metric(r, r.get(data, (), "metric"))
-    ellis = metric.name == "ellis"
+    ellis = metric.sheets == 2  # a wormhole: objects, camera and sky may be on its other sheet
     camera = _camera(r, r.get(data, (), "camera"), metric)
     render, paper = _render(r, data.get("render", {}))
     environment = _environment(r, ("environment",), data.get("environment", {}))
@@ -467,20 +466,23 @@ def _build(r: _Reader, data: dict, *, path: Path | None) -> Scene:
 
 def _metric(r: _Reader, tbl: Any) -> Metric:
     path = ("metric",)
-    registry = {m["name"]: list(m["params"]) for m in registered_metrics()}
+    registry = {m["name"]: m for m in registered_metrics()}
     r.table(path, tbl, [*tbl], required=("name",))  # a table with a name; its keys are checked below
     name = r.choice(tbl, path, "name", list(registry))
-    r.table(path, tbl, ["name", *registry[name]], what=f"[metric] ({name})")
+    specs = {s["name"]: s for s in registry[name]["param_specs"]}
+    r.table(path, tbl, ["name", *specs], what=f"[metric] ({name})")
     params = {}
     for key in tbl:
         if key == "name":
             continue
-        lo, hi = _METRIC_RANGES.get(key, (None, None))
-        params[key] = r.real(tbl, path, key, lo=lo, hi=hi)
+        s = specs[key]  # ranges from the core's registry
+        lo = None if math.isinf(s["lo"]) else s["lo"]
+        hi = None if math.isinf(s["hi"]) else s["hi"]
+        params[key] = r.real(tbl, path, key, lo=lo, hi=hi, lo_open=s["lo_open"], hi_open=s["hi_open"])
     try:
         return metric_from_dict({"name": name, **params})
-    except (TypeError, ValueError) as exc:  # pragma: no cover - ranges above catch these first
-        raise r.error(path, str(exc), at_value=False) from None
+    except (TypeError, ValueError) as exc:  # a relation between parameters (|Q| < M), checked by the core
+        raise r.error(path, f"metric: {str(exc).split(': ', 1)[-1]}", at_value=False) from None
 
 
 def _camera(r: _Reader, tbl: Any, metric: Metric) -> dict:
@@ -491,7 +493,7 @@ def _camera(r: _Reader, tbl: Any, metric: Metric) -> dict:
         "look_at": r.vec3(tbl, path, "look_at", [0.0, 0.0, 0.0]),
         "up": r.vec3(tbl, path, "up", [0.0, 0.0, 1.0], nonzero=True),
         "fov": r.real(tbl, path, "fov", 40.0, lo=0.0, hi=180.0),
-        "sheet": _sheet(r, tbl, path, ellis=metric.name == "ellis"),
+        "sheet": _sheet(r, tbl, path, ellis=metric.sheets == 2),
     }
     forward = np.subtract(cam["look_at"], cam["position"])
     if not np.linalg.norm(forward) > 0:

@@ -8,10 +8,17 @@ from typing import Any
 import numpy as np
 
 from warpviz._native import core
-from warpviz.metrics import EllisWormhole, Metric, metric_from_dict
+from warpviz.metrics import METRIC_CLASSES, Metric, metric_from_dict
 from warpviz.rays import RayBundle, recorded_point_data
 
 STEPPERS = ("rk4", "dopri5", "dop853")
+
+
+def default_max_drift(tol: float) -> float:
+    """Largest relative drift of a conserved quantity a ray may show before it is marked
+    ``invariant_violation``: 1e3 times the local tolerance, but never below 1e-6 (the one place this
+    default lives; ``trace`` and ``render`` use it)."""
+    return max(1e-6, 1e3 * float(tol))
 
 
 def _rows(name: str, value: Any) -> np.ndarray:
@@ -131,7 +138,7 @@ def trace(
     max_steps = int(_number("max_steps", max_steps, lo=0, hi=2**62, integer=True))
     escape_radius = float(_number("escape_radius", escape_radius, lo=0.0))
     threads = int(_number("threads", threads, lo=-1, hi=4096, integer=True))
-    max_drift = max(1e-6, 1e3 * tol) if max_drift is None else float(_number("max_drift", max_drift, lo=0.0))
+    max_drift = default_max_drift(tol) if max_drift is None else float(_number("max_drift", max_drift, lo=0.0))
     rk4_step = float(_number("rk4_step", rk4_step, lo=0.0))
     if monitor_every is not None:
         monitor_every = int(_number("monitor_every", monitor_every, lo=0, hi=2**30, integer=True))
@@ -163,8 +170,10 @@ def trace(
         bad = np.flatnonzero((sheets_arr != 1) & (sheets_arr != -1))
         if bad.size:
             raise ValueError(f"sheets[{bad[0]}] must be +1 or -1, got {sheets_arr[bad[0]]!r}")
-        if not isinstance(metric, EllisWormhole) and np.any(sheets_arr == -1):
-            raise ValueError(f"sheets: {type(metric).__name__} has a single sheet; only EllisWormhole has sheet -1")
+        if metric.sheets < 2 and np.any(sheets_arr == -1):
+            many = [c.__name__ for c in METRIC_CLASSES.values() if c(**{}).sheets > 1]
+            raise ValueError(f"sheets: {type(metric).__name__} has a single sheet; only {' and '.join(many)} "
+                             f"{'has' if len(many) == 1 else 'have'} sheet -1")  # fmt: skip
         sheets_arr = np.ascontiguousarray(sheets_arr, dtype=np.int32)
 
     problem = core.origin_problems(metric.name, metric.param_values, origins, sheets_arr)

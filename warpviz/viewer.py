@@ -42,7 +42,6 @@ import numpy as np
 
 from warpviz.geometry import camera_frustum, ellis_embedding, ellis_embedding_points, metric_features, scene_surfaces
 from warpviz.image import tonemap
-from warpviz.metrics import EllisWormhole, Kerr
 from warpviz.picking import (
     image_cell_to_pixel,
     pixel_for_ray,
@@ -298,7 +297,7 @@ class TeachingView:
         self.selected: list[tuple[int, int]] = []
         self.picked_ray: int | None = None
         self.flat_visible = bool(show_flat)
-        self._embedding = isinstance(self.metric, EllisWormhole)
+        self._embedding = self.metric is not None and "throat" in self.metric.landmarks
         self._image_renderer = None
         self._image_actor = None
         self._rays_actor = None
@@ -375,7 +374,7 @@ class TeachingView:
                 continue
             color, opacity = _FEATURE_STYLE.get(name, ("gray", 0.2))
             p.add_mesh(mesh, color=color, opacity=opacity, pickable=False, smooth_shading=True, name=name)
-            legend.append((name.replace("_", " ") if not (name == "photon_sphere" and isinstance(self.metric, Kerr))
+            legend.append((name.replace("_", " ") if not (name == "photon_sphere" and "photon_prograde" in self.metric.landmarks)
                            else "photon region", color))  # fmt: skip
             focus.append(mesh)
 

@@ -1,5 +1,6 @@
-// Thin Python bindings: arrays in, arrays out. Validation with user-facing messages lives in Python
-// (warpviz/trace.py); this layer only checks what would otherwise be undefined behaviour.
+// Thin Python bindings: arrays in, arrays out. Validation with user-facing messages and every default live
+// in Python (warpviz/trace.py, warpviz/render.py); this layer converts and checks only what would otherwise
+// be undefined behaviour (array shapes). Test hooks are in testing.cpp, bound as _core._testing.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/string.h>
@@ -13,32 +14,28 @@
 #include <thread>
 #include <vector>
 
+#include "bindings/arrays.h"
 #include "bindings/scene_dict.h"
 #include "core/parallel.h"
-#include "core/registry.h"
 #include "core/simd.h"
+#include "engine/registry.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
 
-namespace {
-
-using F64In = nb::ndarray<const double, nb::c_contig, nb::device::cpu>;
-using I32In = nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu>;
-
-template <class T>
-nb::object to_numpy(std::vector<T>&& v, std::vector<size_t> shape) {
-  if (v.empty()) v.reserve(1);
-  auto* heap = new std::vector<T>(std::move(v));
-  nb::capsule owner(heap, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
-  return nb::cast(nb::ndarray<nb::numpy, T>(heap->data(), shape.size(), shape.data(), owner));
+namespace wv::bindings {
+void bind_testing(nb::module_& m);
 }
 
+namespace {
+
+using namespace wv::bindings;
+
 // Names of the per-point columns of recorded paths (geodesic.h, Track).
-nb::list column_names(const wv::Spacetime& st) {
+nb::list column_names(const std::string& metric) {
   nb::list names;
   for (const char* c : {"affine_param", "coord_time", "r", "step_size", "hamiltonian_err"}) names.append(c);
-  const auto inv = st.invariant_names();
+  const auto& inv = wv::find_metric(metric).invariants;
   for (size_t k = 1; k < inv.size(); ++k) names.append(inv[k] + "_drift");
   names.append("redshift");
   names.append("sheet");
@@ -52,21 +49,9 @@ wv::StepperKind stepper_kind(const std::string& s) {
   throw std::invalid_argument("unknown stepper '" + s + "' (known: rk4, dopri5, dop853)");
 }
 
-void check_rows(const F64In& a, size_t n, const char* what) {
-  if (a.ndim() != 2 || a.shape(0) != n || a.shape(1) != 3)
-    throw std::invalid_argument(std::string(what) + " must have shape (n, 3)");
-}
-
-std::vector<double> copy1(const F64In& a, size_t expected, const char* what) {
-  if (a.ndim() != 1 || a.shape(0) != expected)
-    throw std::invalid_argument(std::string(what) + " must have shape (" + std::to_string(expected) + ",)");
-  return std::vector<double>(a.data(), a.data() + expected);
-}
-
 nb::dict trace(const std::string& metric, const std::vector<double>& params, F64In origins, F64In directions,
                I32In sheets, double tol, const std::string& stepper, long max_steps, double escape_radius,
                double max_drift, double rk4_step, bool record, int threads, bool batch, int monitor_every) {
-  auto st = wv::make_spacetime(metric, params);
   const size_t n = origins.ndim() == 2 ? origins.shape(0) : 0;
   check_rows(origins, n, "origins");
   check_rows(directions, n, "directions");
@@ -98,10 +83,10 @@ nb::dict trace(const std::string& metric, const std::vector<double>& params, F64
   wv::TraceResult r;
   {
     nb::gil_scoped_release release;
-    r = st->trace(req);
+    r = wv::trace_rays(metric, params, req);
   }
   if (interrupted) throw nb::python_error();
-  const auto names = st->invariant_names();
+  const auto& names = wv::find_metric(metric).invariants;
   const size_t K = names.size();
   nb::dict out;
   nb::dict drift;
@@ -120,17 +105,18 @@ nb::dict trace(const std::string& metric, const std::vector<double>& params, F64
     out["points"] = to_numpy(std::move(r.points), {P, 3});
     out["offsets"] = to_numpy(std::move(r.offsets), {n + 1});
     out["columns"] = to_numpy(std::move(r.columns), {C, P});
-    out["column_names"] = column_names(*st);
+    out["column_names"] = column_names(metric);
   }
   return out;
 }
 
 
+// A render option; warpviz/render.py resolves every default and validates every value, so each is present.
 template <class T>
-T option(const nb::dict& o, const char* key, T dflt) {
-  if (!o.contains(key) || o[key].is_none()) return dflt;
+T option(const nb::dict& o, const char* key) {
   T v;
-  if (!nb::try_cast<T>(o[key], v)) throw std::invalid_argument(std::string("render option '") + key + "' has the wrong type");
+  if (!o.contains(key) || !nb::try_cast<T>(o[key], v))
+    throw std::invalid_argument(std::string("render option '") + key + "' is missing or has the wrong type");
   return v;
 }
 
@@ -147,27 +133,22 @@ nb::dict render(nb::dict scene, nb::dict options) {
     if (!why.empty()) throw std::invalid_argument("camera.position " + why);
   }
   wv::RenderOptions o;
-  o.spp = option<int>(options, "spp", 16);
-  o.seed = uint64_t(option<long long>(options, "seed", 0));
-  o.max_depth = option<int>(options, "max_depth", 8);
-  o.rr_depth = option<int>(options, "rr_depth", 3);
-  o.light_sampling = option<bool>(options, "light_sampling", true);
-  o.trace.tol = option<double>(options, "tol", 1e-7);
-  o.trace.max_steps = option<long>(options, "max_steps", 20000);
-  o.trace.escape_radius = option<double>(options, "escape_radius", 1e3);
-  o.trace.max_drift = option<double>(options, "max_drift", std::max(1e-6, 1e3 * o.trace.tol));
-  o.chord_tol = option<double>(options, "chord_tolerance", 1e-3);
-  o.aim_lights = option<bool>(options, "aim_lights", true);
-  o.light_margin = option<bool>(options, "light_margin", true);
-  o.pilot_tol = option<double>(options, "pilot_tol", 1e-4);
-  o.batch = option<bool>(options, "batch", true);
-  o.threads = option<int>(options, "threads", 0);
-  const auto stepper = stepper_kind(option<std::string>(options, "stepper", "dopri5"));
-  if (o.spp < 1) throw std::invalid_argument("spp must be >= 1");
-  if (o.max_depth < 1) throw std::invalid_argument("max_depth must be >= 1");
-  if (!(o.trace.tol > 0 && o.trace.tol < 1)) throw std::invalid_argument("tol must be in (0, 1)");
-  if (!(o.chord_tol > 0)) throw std::invalid_argument("chord_tolerance must be > 0");
-  if (!(o.pilot_tol > 0 && o.pilot_tol < 1)) throw std::invalid_argument("pilot_tol must be in (0, 1)");
+  o.spp = option<int>(options, "spp");
+  o.seed = uint64_t(option<long long>(options, "seed"));
+  o.max_depth = option<int>(options, "max_depth");
+  o.rr_depth = option<int>(options, "rr_depth");
+  o.light_sampling = option<bool>(options, "light_sampling");
+  o.trace.tol = option<double>(options, "tol");
+  o.trace.max_steps = option<long>(options, "max_steps");
+  o.trace.escape_radius = option<double>(options, "escape_radius");
+  o.trace.max_drift = option<double>(options, "max_drift");
+  o.chord_tol = option<double>(options, "chord_tolerance");
+  o.aim_lights = option<bool>(options, "aim_lights");
+  o.light_margin = option<bool>(options, "light_margin");
+  o.pilot_tol = option<double>(options, "pilot_tol");
+  o.batch = option<bool>(options, "batch");
+  o.threads = option<int>(options, "threads");
+  const auto stepper = stepper_kind(option<std::string>(options, "stepper"));
   if (options.contains("record_pixels") && !options["record_pixels"].is_none()) {
     nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu> rp;
     if (!nb::try_cast(options["record_pixels"], rp) || rp.ndim() != 2 || rp.shape(1) != 2)
@@ -199,7 +180,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   wv::RenderResult r;
   {
     nb::gil_scoped_release release;
-    r = st->render(sc, o, stepper);
+    r = wv::render_scene(metric, params, sc, o, stepper);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (callback_error) std::rethrow_exception(callback_error);
@@ -262,7 +243,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
     rays["points"] = to_numpy(std::move(points), {P, 3});
     rays["offsets"] = to_numpy(std::move(offsets), {N + 1});
     rays["columns"] = to_numpy(std::move(cols), {C, P});
-    rays["column_names"] = column_names(*st);
+    rays["column_names"] = column_names(metric);
     rays["pixel_x"] = to_numpy(std::move(px), {N});
     rays["pixel_y"] = to_numpy(std::move(py), {N});
     rays["sample"] = to_numpy(std::move(sample), {N});
@@ -276,145 +257,73 @@ nb::dict render(nb::dict scene, nb::dict options) {
 }
 
 
-// Test hook for the BSDFs: samples material `material` (a native material dict, constant albedo) at
-// local normal n for outgoing direction wo with the given uniforms u (N, 3), and evaluates the BSDF at
-// the sampled directions and at the given directions `at` (M, 3). Returns wi (N, 3), weight (N, 3),
-// pdf (N,), delta (N,), valid (N,), f_eval (N, 3) (= BSDF |cos|, 0 for delta lobes), pdf_eval (N,),
-// f_at (M, 3) and pdf_at (M,).
-nb::dict bsdf(nb::dict material, std::vector<double> albedo, std::vector<double> n, std::vector<double> wo, F64In u,
-              F64In at) {
-  if (albedo.size() != 3 || n.size() != 3 || wo.size() != 3) throw std::invalid_argument("albedo, n and wo need 3 components");
-  if (u.ndim() != 2 || u.shape(1) != 3) throw std::invalid_argument("u must have shape (N, 3)");
-  if (at.ndim() != 2 || at.shape(1) != 3) throw std::invalid_argument("at must have shape (M, 3)");
-  nb::dict scene;
-  nb::list mats;
-  mats.append(material);
-  scene["materials"] = mats;
-  wv::Scene sc;
-  nb::dict cam;
-  cam["position"] = std::vector<double>{0, 0, 1};
-  cam["look_at"] = std::vector<double>{0, 0, 0};
-  scene["camera"] = cam;
-  scene["shapes"] = nb::list();
-  wv::scene_from_dict(scene, sc);
-  const wv::Material& m = sc.materials.at(0);
-  const wv::V3 A(albedo.data()), N = wv::normalize(wv::V3(n.data())), WO = wv::normalize(wv::V3(wo.data()));
-  const size_t count = u.shape(0);
-  std::vector<double> wi(3 * count), weight(3 * count), pdf(count), fe(3 * count), pe(count);
-  std::vector<int8_t> delta(count), valid(count);
-  for (size_t i = 0; i < count; ++i) {
-    const double* ui = u.data() + 3 * i;
-    const wv::BsdfSample b = wv::bsdf_sample(m, A, N, WO, ui[0], ui[1], ui[2]);
-    double pev = 0.0;
-    const wv::V3 f = wv::bsdf_eval(m, A, N, WO, b.wi, pev);
-    for (int c = 0; c < 3; ++c) {
-      wi[3 * i + c] = b.wi[c];
-      weight[3 * i + c] = b.weight[c];
-      fe[3 * i + c] = f[c];
-    }
-    pdf[i] = b.pdf;
-    pe[i] = pev;
-    delta[i] = b.delta;
-    valid[i] = b.valid;
-  }
-  const size_t M = at.shape(0);
-  std::vector<double> f_at(3 * M), pdf_at(M);
-  for (size_t i = 0; i < M; ++i) {
-    const wv::V3 f = wv::bsdf_eval(m, A, N, WO, wv::normalize(wv::V3(at.data() + 3 * i)), pdf_at[i]);
-    for (int c = 0; c < 3; ++c) f_at[3 * i + c] = f[c];
-  }
-  nb::dict out;
-  out["f_at"] = to_numpy(std::move(f_at), {M, 3});
-  out["pdf_at"] = to_numpy(std::move(pdf_at), {M});
-  out["wi"] = to_numpy(std::move(wi), {count, 3});
-  out["weight"] = to_numpy(std::move(weight), {count, 3});
-  out["pdf"] = to_numpy(std::move(pdf), {count});
-  out["delta"] = to_numpy(std::move(delta), {count});
-  out["valid"] = to_numpy(std::move(valid), {count});
-  out["f_eval"] = to_numpy(std::move(fe), {count, 3});
-  out["pdf_eval"] = to_numpy(std::move(pe), {count});
-  return out;
-}
-
 nb::list metrics() {
   nb::list out;
-  for (const auto& e : wv::metric_registry()) {
+  for (const auto& e : wv::registered_metrics()) {
     nb::dict d;
     d["name"] = e.name;
-    d["params"] = e.params;
+    d["class_name"] = e.class_name;
+    d["summary"] = e.summary;
+    nb::list names, specs;
+    for (const auto& p : e.params) {
+      names.append(p.name);
+      nb::dict spec;
+      spec["name"] = p.name;
+      spec["lo"] = p.lo;
+      spec["lo_open"] = p.lo_open;
+      spec["hi"] = p.hi;
+      spec["hi_open"] = p.hi_open;
+      spec["default"] = p.value;
+      spec["doc"] = p.doc;
+      specs.append(spec);
+    }
+    d["params"] = names;
+    d["param_specs"] = specs;
+    d["param_relation"] = e.param_relation;
     d["invariants"] = e.invariants;
+    d["sheets"] = e.sheets;
+    d["flat"] = e.flat;
+    d["lane_rhs"] = e.lane_rhs;
     out.append(d);
   }
   return out;
+}
+
+// Landmark radii of a metric with parameters (spacetime/landmarks.h); 0 where it has none.
+nb::dict landmarks(const std::string& metric, const std::vector<double>& params) {
+  const wv::Landmarks l = wv::make_spacetime(metric, params)->landmarks();
+  nb::dict d;
+  d["horizon"] = l.horizon;
+  d["inner_horizon"] = l.inner_horizon;
+  d["capture"] = l.capture;
+  d["photon_sphere"] = l.photon_sphere;
+  d["photon_prograde"] = l.photon_prograde;
+  d["photon_retrograde"] = l.photon_retrograde;
+  d["photon_polar"] = l.photon_polar;
+  d["ergosphere"] = l.ergosphere;
+  d["throat"] = l.throat;
+  d["mass"] = l.mass;
+  d["spin"] = l.spin;
+  return d;
 }
 
 }  // namespace
 
 NB_MODULE(_core, m) {
   m.doc() = "warpviz native core: null geodesics of Minkowski, Schwarzschild, Kerr and Ellis spacetimes";
-  m.def("metrics", &metrics, "Registered metrics: list of {name, params, invariants}.");
+  m.def("metrics", &metrics, "Registered metrics and their facts (engine/registry.h).");
+  m.def("landmarks", &landmarks, "metric"_a, "params"_a, "Landmark radii of a metric (spacetime/landmarks.h).");
+  m.def(
+      "params_problem",
+      [](const std::string& metric, const std::vector<double>& params) {
+        return wv::params_problem(wv::find_metric(metric), params);
+      },
+      "metric"_a, "params"_a, "Empty if the parameters are valid for the metric, else why not.");
   m.def("render", &render, "scene"_a, "options"_a,
         "Path-trace a native scene dict (docs/native-scene.md); see warpviz.render.");
-  m.def("bsdf", &bsdf, "material"_a, "albedo"_a, "n"_a, "wo"_a, "u"_a, "at"_a,
-        "Test hook: sample and evaluate one material's BSDF in a local frame.");
   m.def("trace", &trace, "metric"_a, "params"_a, "origins"_a, "directions"_a, "sheets"_a, "tol"_a, "stepper"_a,
         "max_steps"_a, "escape_radius"_a, "max_drift"_a, "rk4_step"_a, "record"_a, "threads"_a, "batch"_a, "monitor_every"_a,
         "Trace rays; see warpviz.trace for the documented interface.");
-  m.def(
-      "inverse_metric",
-      [](const std::string& metric, const std::vector<double>& params, F64In x) {
-        auto st = wv::make_spacetime(metric, params);
-        const auto xv = copy1(x, 4, "x");
-        double gi[4][4];
-        st->inverse_metric(xv.data(), gi);
-        std::vector<double> out(&gi[0][0], &gi[0][0] + 16);
-        return to_numpy(std::move(out), {4, 4});
-      },
-      "metric"_a, "params"_a, "x"_a);
-  m.def(
-      "observer_frame",
-      [](const std::string& metric, const std::vector<double>& params, F64In x, bool generic) -> nb::object {
-        auto st = wv::make_spacetime(metric, params);
-        const auto xv = copy1(x, 4, "x");
-        wv::ObserverFrame f;
-        if (!st->observer_frame(xv.data(), generic, f)) return nb::none();
-        return nb::make_tuple(to_numpy(std::vector<double>(&f.g[0][0], &f.g[0][0] + 16), {4, 4}),
-                              to_numpy(std::vector<double>(f.u, f.u + 4), {4}),
-                              to_numpy(std::vector<double>(&f.e[0][0], &f.e[0][0] + 12), {3, 4}));
-      },
-      "metric"_a, "params"_a, "x"_a, "generic"_a = false,
-      "Test hook: (g_{mu nu}, u^mu, e_j^mu) of the local observer at chart point x, or None.");
-  m.def(
-      "rhs",
-      [](const std::string& metric, const std::vector<double>& params, F64In y, bool autodiff) {
-        auto st = wv::make_spacetime(metric, params);
-        const auto yv = copy1(y, 8, "y");
-        std::vector<double> dy(8);
-        if (autodiff) st->rhs_autodiff(yv.data(), dy.data()); else st->rhs(yv.data(), dy.data());
-        return to_numpy(std::move(dy), {8});
-      },
-      "metric"_a, "params"_a, "y"_a, "autodiff"_a = false);
-  m.def(
-      "invariants",
-      [](const std::string& metric, const std::vector<double>& params, F64In y) {
-        auto st = wv::make_spacetime(metric, params);
-        const auto yv = copy1(y, 8, "y");
-        std::vector<double> out(st->invariant_names().size());
-        st->invariants(yv.data(), out.data());
-        return to_numpy(std::move(out), {out.size()});
-      },
-      "metric"_a, "params"_a, "y"_a);
-  m.def(
-      "initial_state",
-      [](const std::string& metric, const std::vector<double>& params, F64In pos, F64In dir, int sheet) {
-        auto st = wv::make_spacetime(metric, params);
-        const auto p = copy1(pos, 3, "pos"), d = copy1(dir, 3, "dir");
-        std::vector<double> y(8);
-        if (!st->initial_state(p.data(), d.data(), sheet, y.data()))
-          throw std::invalid_argument("position " + st->origin_problem(p.data(), sheet));
-        return to_numpy(std::move(y), {8});
-      },
-      "metric"_a, "params"_a, "pos"_a, "dir"_a, "sheet"_a = 1);
   m.def(
       "origin_problems",
       [](const std::string& metric, const std::vector<double>& params, F64In origins, I32In sheets) -> nb::object {
@@ -429,6 +338,8 @@ NB_MODULE(_core, m) {
       },
       "metric"_a, "params"_a, "origins"_a, "sheets"_a,
       "First origin a ray cannot start from, as (row, reason), or None.");
+  nb::module_ testing = m.def_submodule("_testing", "Test hooks (not public API)");
+  wv::bindings::bind_testing(testing);
   m.def("build_info", []() {
     nb::dict d;
     d["compiler"] = std::string(__VERSION__);

@@ -4,6 +4,11 @@
 // MetricBase<Self> and provides, in signature (-,+,+,+) with geometric units G = c = 1:
 //
 //   static constexpr const char* kName;                       registry name, e.g. "kerr"
+//   static constexpr const char* kClassName;                  Python class name, e.g. "Kerr"
+//   static constexpr const char* kSummary;                    one line for docs and the viewer's title
+//   static constexpr ParamSpec kParams[];  kNumParams         parameters with ranges and defaults (params.h),
+//                                                             in constructor order; the registry validates
+//                                                             them before `explicit M(const std::vector<double>&)`
 //   static constexpr int kNumInvariants;                      conserved quantities, [0] is always H
 //   static constexpr const char* kInvariantNames[];           e.g. {"H", "E", "Lz", "Q"}
 //   template <class T> void inverse_metric(const T x[4], T gi[4][4]) const;
@@ -19,7 +24,12 @@
 //   void invariant_scales(const double y[8], const double inv[], double scale[]) const;
 //                                                             normalisation of each relative drift
 //
-// and may override the defaults of MetricBase: a hand-written Hamiltonian right-hand side `rhs`
+//   Landmarks landmarks() const;                              horizon, capture radius, photon sphere or
+//                                                             region, ergosurface, throat (landmarks.h);
+//                                                             a black hole must set `capture` (contract test)
+//
+// and may override the defaults of MetricBase: a relation between parameters (`param_relation_problem`,
+// documented by kParamRelation, e.g. |Q| < M), a hand-written Hamiltonian right-hand side `rhs`
 // (checked against `rhs_autodiff` to 1e-12 by the contract tests), a horizon (`absorbed`,
 // `horizon_radius`), a chart change between sheets (`normalize_chart`, Ellis), and the map between the
 // integration chart and the Cartesian frame the user sees (`chart_to_user`, `user_to_chart`).
@@ -34,6 +44,8 @@
 #include <string>
 
 #include "core/dual.h"
+#include "spacetime/landmarks.h"
+#include "spacetime/params.h"
 
 namespace wv {
 
@@ -114,7 +126,24 @@ struct MetricBase {
   // The integration chart's x, y, z are the user's Cartesian coordinates (false: Ellis).
   static constexpr bool kUserIsChart = true;
 
+  // Sheets of the spacetime the user sees as separate Cartesian frames (2: a wormhole's two sides).
+  static constexpr int kSheets = 1;
+  static constexpr int kNumParams = 0;
+  static constexpr const ParamSpec* kParams = nullptr;
+  // A constraint between parameters that their ranges cannot express, in words ("" if none), and its check:
+  // empty if the (range-checked) values p satisfy it, otherwise why not.
+  static constexpr const char* kParamRelation = "";
+  static std::string param_relation_problem(const double* /*p*/) { return {}; }
+
   const Derived& self() const { return static_cast<const Derived&>(*this); }
+
+  // Landmark radii; metrics add photon orbits, ergosurface, throat and their mass scale.
+  Landmarks landmarks() const {
+    Landmarks l;
+    l.horizon = self().horizon_radius();
+    l.capture = self().capture_radius();
+    return l;
+  }
 
   // Hamilton's equations; metrics override this with a hand-written version for speed.
   void rhs(const double y[8], double dy[8]) const { rhs_autodiff(self(), y, dy); }

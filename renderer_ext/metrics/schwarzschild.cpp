@@ -9,21 +9,24 @@
 #include <cmath>
 #include <vector>
 
-#include "core/registry.h"
+#include "engine/register.h"
 #include "core/simd.h"
 #include "spacetime/frame.h"
 #include "spacetime/metric.h"
-#include "spacetime/params.h"
 
 namespace wv {
 
 struct Schwarzschild : MetricBase<Schwarzschild> {
   static constexpr const char* kName = "schwarzschild";
+  static constexpr const char* kClassName = "Schwarzschild";
+  static constexpr const char* kSummary = "Non-rotating black hole (Cartesian Kerr-Schild coordinates)";
+  static constexpr ParamSpec kParams[] = {{"mass", 0.0, true, kUnbounded, false, 1.0, "M > 0: horizon 2M, photon sphere 3M"}};
+  static constexpr int kNumParams = 1;
   static constexpr int kNumInvariants = 4;
   static constexpr const char* kInvariantNames[kNumInvariants] = {"H", "E", "Lz", "L2"};
   double M;
 
-  explicit Schwarzschild(const std::vector<double>& p) : M(checked_param(kName, "mass", p[0], 0.0, true, 1e300, false)) {}
+  explicit Schwarzschild(const std::vector<double>& p) : M(p[0]) {}
 
   template <class T>
   void inverse_metric(const T* x, T gi[4][4]) const {
@@ -69,6 +72,12 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
   double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }
   double horizon_radius() const { return 2.0 * M; }
   double capture_radius() const { return 2.5 * M; }  // between the horizon and the photon sphere (3M)
+  Landmarks landmarks() const {
+    Landmarks l = MetricBase::landmarks();
+    l.photon_sphere = 3.0 * M;
+    l.mass = M;
+    return l;
+  }
   double keplerian_omega(const double* x) const {
     const double r = radius(x);
     return std::sqrt(M / (r * r * r));
@@ -96,6 +105,6 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
   }
 };
 
-WARPVIZ_REGISTER_METRIC(Schwarzschild, {"mass"});
+WARPVIZ_REGISTER_METRIC(Schwarzschild);
 
 }  // namespace wv

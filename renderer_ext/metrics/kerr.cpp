@@ -14,23 +14,28 @@
 #include <cmath>
 #include <vector>
 
-#include "core/registry.h"
+#include "engine/register.h"
 #include "core/simd.h"
 #include "spacetime/frame.h"
 #include "spacetime/metric.h"
-#include "spacetime/params.h"
 
 namespace wv {
 
 struct Kerr : MetricBase<Kerr> {
   static constexpr const char* kName = "kerr";
+  static constexpr const char* kClassName = "Kerr";
+  static constexpr const char* kSummary = "Rotating black hole (Cartesian Kerr-Schild coordinates, spin along +z)";
+  static constexpr ParamSpec kParams[] = {
+      {"mass", 0.0, true, kUnbounded, false, 1.0, "M > 0"},
+      {"spin", -1.0, true, 1.0, true, 0.0, "a/M, |spin| < 1 (|a/M| >= 1 has no horizon); negative spins rotate about -z"}};
+  static constexpr int kNumParams = 2;
   static constexpr int kNumInvariants = 4;
   static constexpr const char* kInvariantNames[kNumInvariants] = {"H", "E", "Lz", "Q"};
   double M, a, r_plus;
 
   explicit Kerr(const std::vector<double>& p)
-      : M(checked_param(kName, "mass", p[0], 0.0, true, 1e300, false)),
-        a(checked_param(kName, "spin", p[1], -1.0, true, 1.0, true) * p[0]),
+      : M(p[0]),
+        a(p[1] * p[0]),
         r_plus(M + std::sqrt((M - a) * (M + a))) {}
 
   // Boyer-Lindquist r from Cartesian Kerr-Schild x, y, z; stable on both sides of the disk r = 0.
@@ -100,9 +105,31 @@ struct Kerr : MetricBase<Kerr> {
   double radius(const double* x) const { return bl_radius(x[1], x[2], x[3]); }
   double horizon_radius() const { return r_plus; }
   // Halfway between the horizon and the prograde equatorial photon orbit (the innermost one).
-  double capture_radius() const {
-    const double r_ph = 2.0 * M * (1.0 + std::cos(2.0 / 3.0 * std::acos(-std::fabs(a) / M)));
-    return r_plus + 0.5 * (r_ph - r_plus);
+  double capture_radius() const { return r_plus + 0.5 * (photon_orbit(-1.0) - r_plus); }
+  // Equatorial circular photon orbit, prograde (sense -1) or retrograde (+1) (Bardeen, Press & Teukolsky).
+  double photon_orbit(double sense) const {
+    return 2.0 * M * (1.0 + std::cos(2.0 / 3.0 * std::acos(sense * std::fabs(a) / M)));
+  }
+  // The spherical photon orbit with zero angular momentum, over the poles: the largest root of
+  // r^3 - 3 M r^2 + a^2 r + a^2 M = 0.
+  double polar_photon_orbit() const {
+    const double s = std::sqrt(M * M - a * a / 3.0);
+    return M + 2.0 * s * std::cos(std::acos(std::min(1.0, M * (M * M - a * a) / (s * s * s))) / 3.0);
+  }
+  Landmarks landmarks() const {
+    Landmarks l = MetricBase::landmarks();
+    l.inner_horizon = M - std::sqrt((M - a) * (M + a));
+    if (std::fabs(a) <= 1e-12 * M) {  // the photon region's walls have merged into the sphere r = 3M
+      l.photon_sphere = 3.0 * M;
+    } else {
+      l.photon_prograde = photon_orbit(-1.0);
+      l.photon_retrograde = photon_orbit(1.0);
+      l.photon_polar = polar_photon_orbit();
+    }
+    if (a != 0.0) l.ergosphere = 2.0 * M;
+    l.mass = M;
+    l.spin = a;
+    return l;
   }
   // Prograde equatorial circular orbit (Bardeen, Press & Teukolsky): Omega = sqrt(M) / (r^1.5 + a sqrt(M)).
   double keplerian_omega(const double* x) const {
@@ -140,6 +167,6 @@ struct Kerr : MetricBase<Kerr> {
   }
 };
 
-WARPVIZ_REGISTER_METRIC(Kerr, {"mass", "spin"});
+WARPVIZ_REGISTER_METRIC(Kerr);
 
 }  // namespace wv

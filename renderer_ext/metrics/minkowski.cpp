@@ -4,13 +4,15 @@
 #include <cmath>
 #include <vector>
 
-#include "core/registry.h"
+#include "engine/register.h"
 #include "spacetime/metric.h"
 
 namespace wv {
 
 struct Minkowski : MetricBase<Minkowski> {
   static constexpr const char* kName = "minkowski";
+  static constexpr const char* kClassName = "Minkowski";
+  static constexpr const char* kSummary = "Flat spacetime: straight rays, traced analytically with zero steps";
   static constexpr bool kFlat = true;
   static constexpr int kNumInvariants = 2;
   static constexpr const char* kInvariantNames[kNumInvariants] = {"H", "E"};
@@ -38,6 +40,6 @@ struct Minkowski : MetricBase<Minkowski> {
   }
 };
 
-WARPVIZ_REGISTER_METRIC(Minkowski, {});
+WARPVIZ_REGISTER_METRIC(Minkowski);
 
 }  // namespace wv

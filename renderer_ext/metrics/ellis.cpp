@@ -14,23 +14,34 @@
 #include <sstream>
 #include <vector>
 
-#include "core/registry.h"
+#include "engine/register.h"
 #include "core/simd.h"
 #include "spacetime/frame.h"
 #include "spacetime/metric.h"
-#include "spacetime/params.h"
 
 namespace wv {
 
 struct EllisWormhole : MetricBase<EllisWormhole> {
   static constexpr const char* kName = "ellis";
+  static constexpr const char* kClassName = "EllisWormhole";
+  static constexpr const char* kSummary = "Ellis wormhole joining two asymptotically flat sheets";
+  static constexpr ParamSpec kParams[] = {{"throat", 0.0, true, kUnbounded, false, 1.0, "throat radius b0 > 0"}};
+  static constexpr int kNumParams = 1;
+  static constexpr int kSheets = 2;
   static constexpr int kNumInvariants = 3;
   static constexpr bool kUserIsChart = false;
   static constexpr const char* kInvariantNames[kNumInvariants] = {"H", "E", "L2"};
   double b0, b02;
 
   explicit EllisWormhole(const std::vector<double>& p)
-      : b0(checked_param(kName, "throat", p[0], 0.0, true, 1e300, false)), b02(b0 * b0) {}
+      : b0(p[0]), b02(b0 * b0) {}
+
+  Landmarks landmarks() const {
+    Landmarks l;
+    l.throat = b0;
+    l.mass = b0;
+    return l;
+  }
 
   template <class T>
   void inverse_metric(const T* x, T gi[4][4]) const {
@@ -134,6 +145,6 @@ struct EllisWormhole : MetricBase<EllisWormhole> {
   }
 };
 
-WARPVIZ_REGISTER_METRIC(EllisWormhole, {"throat"});
+WARPVIZ_REGISTER_METRIC(EllisWormhole);
 
 }  // namespace wv

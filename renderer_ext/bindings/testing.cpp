@@ -1,0 +1,146 @@
+// Test hooks, bound as warpviz._core._testing (reached from Python as warpviz._native.testing): a
+// metric's geometry at one point, and one material's BSDF in a local frame. Not part of the public API.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bindings/arrays.h"
+#include "bindings/scene_dict.h"
+#include "engine/registry.h"
+#include "scene/material.h"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+
+namespace wv::bindings {
+
+namespace {
+
+// Test hook for the BSDFs: samples material `material` (a native material dict, constant albedo) at
+// local normal n for outgoing direction wo with the given uniforms u (N, 3), and evaluates the BSDF at
+// the sampled directions and at the given directions `at` (M, 3). Returns wi (N, 3), weight (N, 3),
+// pdf (N,), delta (N,), valid (N,), f_eval (N, 3) (= BSDF |cos|, 0 for delta lobes), pdf_eval (N,),
+// f_at (M, 3) and pdf_at (M,).
+nb::dict bsdf(nb::dict material, std::vector<double> albedo, std::vector<double> n, std::vector<double> wo, F64In u,
+              F64In at) {
+  if (albedo.size() != 3 || n.size() != 3 || wo.size() != 3) throw std::invalid_argument("albedo, n and wo need 3 components");
+  if (u.ndim() != 2 || u.shape(1) != 3) throw std::invalid_argument("u must have shape (N, 3)");
+  if (at.ndim() != 2 || at.shape(1) != 3) throw std::invalid_argument("at must have shape (M, 3)");
+  nb::dict scene;
+  nb::list mats;
+  mats.append(material);
+  scene["materials"] = mats;
+  wv::Scene sc;
+  nb::dict cam;
+  cam["position"] = std::vector<double>{0, 0, 1};
+  cam["look_at"] = std::vector<double>{0, 0, 0};
+  scene["camera"] = cam;
+  scene["shapes"] = nb::list();
+  wv::scene_from_dict(scene, sc);
+  const wv::Material& m = sc.materials.at(0);
+  const wv::V3 A(albedo.data()), N = wv::normalize(wv::V3(n.data())), WO = wv::normalize(wv::V3(wo.data()));
+  const size_t count = u.shape(0);
+  std::vector<double> wi(3 * count), weight(3 * count), pdf(count), fe(3 * count), pe(count);
+  std::vector<int8_t> delta(count), valid(count);
+  for (size_t i = 0; i < count; ++i) {
+    const double* ui = u.data() + 3 * i;
+    const wv::BsdfSample b = wv::bsdf_sample(m, A, N, WO, ui[0], ui[1], ui[2]);
+    double pev = 0.0;
+    const wv::V3 f = wv::bsdf_eval(m, A, N, WO, b.wi, pev);
+    for (int c = 0; c < 3; ++c) {
+      wi[3 * i + c] = b.wi[c];
+      weight[3 * i + c] = b.weight[c];
+      fe[3 * i + c] = f[c];
+    }
+    pdf[i] = b.pdf;
+    pe[i] = pev;
+    delta[i] = b.delta;
+    valid[i] = b.valid;
+  }
+  const size_t M = at.shape(0);
+  std::vector<double> f_at(3 * M), pdf_at(M);
+  for (size_t i = 0; i < M; ++i) {
+    const wv::V3 f = wv::bsdf_eval(m, A, N, WO, wv::normalize(wv::V3(at.data() + 3 * i)), pdf_at[i]);
+    for (int c = 0; c < 3; ++c) f_at[3 * i + c] = f[c];
+  }
+  nb::dict out;
+  out["f_at"] = to_numpy(std::move(f_at), {M, 3});
+  out["pdf_at"] = to_numpy(std::move(pdf_at), {M});
+  out["wi"] = to_numpy(std::move(wi), {count, 3});
+  out["weight"] = to_numpy(std::move(weight), {count, 3});
+  out["pdf"] = to_numpy(std::move(pdf), {count});
+  out["delta"] = to_numpy(std::move(delta), {count});
+  out["valid"] = to_numpy(std::move(valid), {count});
+  out["f_eval"] = to_numpy(std::move(fe), {count, 3});
+  out["pdf_eval"] = to_numpy(std::move(pe), {count});
+  return out;
+}
+
+}  // namespace
+
+void bind_testing(nb::module_& m) {
+  m.def("bsdf", &bsdf, "material"_a, "albedo"_a, "n"_a, "wo"_a, "u"_a, "at"_a,
+        "Sample and evaluate one material's BSDF in a local frame.");
+  m.def(
+      "inverse_metric",
+      [](const std::string& metric, const std::vector<double>& params, F64In x) {
+        auto st = wv::make_spacetime(metric, params);
+        const auto xv = copy1(x, 4, "x");
+        double gi[4][4];
+        st->inverse_metric(xv.data(), gi);
+        std::vector<double> out(&gi[0][0], &gi[0][0] + 16);
+        return to_numpy(std::move(out), {4, 4});
+      },
+      "metric"_a, "params"_a, "x"_a);
+  m.def(
+      "observer_frame",
+      [](const std::string& metric, const std::vector<double>& params, F64In x, bool generic) -> nb::object {
+        auto st = wv::make_spacetime(metric, params);
+        const auto xv = copy1(x, 4, "x");
+        wv::ObserverFrame f;
+        if (!st->observer_frame(xv.data(), generic, f)) return nb::none();
+        return nb::make_tuple(to_numpy(std::vector<double>(&f.g[0][0], &f.g[0][0] + 16), {4, 4}),
+                              to_numpy(std::vector<double>(f.u, f.u + 4), {4}),
+                              to_numpy(std::vector<double>(&f.e[0][0], &f.e[0][0] + 12), {3, 4}));
+      },
+      "metric"_a, "params"_a, "x"_a, "generic"_a = false,
+      "Test hook: (g_{mu nu}, u^mu, e_j^mu) of the local observer at chart point x, or None.");
+  m.def(
+      "rhs",
+      [](const std::string& metric, const std::vector<double>& params, F64In y, bool autodiff) {
+        auto st = wv::make_spacetime(metric, params);
+        const auto yv = copy1(y, 8, "y");
+        std::vector<double> dy(8);
+        if (autodiff) st->rhs_autodiff(yv.data(), dy.data()); else st->rhs(yv.data(), dy.data());
+        return to_numpy(std::move(dy), {8});
+      },
+      "metric"_a, "params"_a, "y"_a, "autodiff"_a = false);
+  m.def(
+      "invariants",
+      [](const std::string& metric, const std::vector<double>& params, F64In y) {
+        auto st = wv::make_spacetime(metric, params);
+        const auto yv = copy1(y, 8, "y");
+        std::vector<double> out(st->invariant_names().size());
+        st->invariants(yv.data(), out.data());
+        return to_numpy(std::move(out), {out.size()});
+      },
+      "metric"_a, "params"_a, "y"_a);
+  m.def(
+      "initial_state",
+      [](const std::string& metric, const std::vector<double>& params, F64In pos, F64In dir, int sheet) {
+        auto st = wv::make_spacetime(metric, params);
+        const auto p = copy1(pos, 3, "pos"), d = copy1(dir, 3, "dir");
+        std::vector<double> y(8);
+        if (!st->initial_state(p.data(), d.data(), sheet, y.data()))
+          throw std::invalid_argument("position " + st->origin_problem(p.data(), sheet));
+        return to_numpy(std::move(y), {8});
+      },
+      "metric"_a, "params"_a, "pos"_a, "dir"_a, "sheet"_a = 1);
+}
+
+}  // namespace wv::bindings

@@ -1,0 +1,64 @@
+// The run-time face of one metric with its parameters: the geometry the bindings, the test hooks and the
+// registry ask of it (inverse metric, Hamilton's equations, conserved quantities, observer frames, where a
+// ray may start, landmark radii). Tracing and rendering are not here: they are instantiated per metric and
+// stepper by engine/register.h and reached through the registry (engine/registry.h).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "spacetime/bundle.h"
+#include "spacetime/frame.h"
+#include "spacetime/landmarks.h"
+#include "spacetime/metric.h"
+
+namespace wv {
+
+class Spacetime {
+ public:
+  virtual ~Spacetime() = default;
+  virtual std::string name() const = 0;
+  virtual std::vector<std::string> invariant_names() const = 0;
+  virtual Landmarks landmarks() const = 0;
+  virtual void inverse_metric(const double x[4], double gi[4][4]) const = 0;
+  virtual void rhs(const double y[8], double dy[8]) const = 0;
+  virtual void rhs_autodiff(const double y[8], double dy[8]) const = 0;
+  virtual void invariants(const double y[8], double* out) const = 0;
+  // Empty if a ray may start at pos on sheet, otherwise why not.
+  virtual std::string origin_problem(const double pos[3], int sheet) const = 0;
+  // Initial state for a ray starting at pos (user frame) along unit direction dir of the local observer.
+  virtual bool initial_state(const double pos[3], const double dir[3], int sheet, double y[8]) const = 0;
+  // The local observer's frame at chart point x (closed form where the metric has one, or the generic
+  // construction); false where there is none.
+  virtual bool observer_frame(const double x[4], bool generic, ObserverFrame& f) const = 0;
+};
+
+template <class M>
+class SpacetimeImpl final : public Spacetime {
+ public:
+  explicit SpacetimeImpl(M metric) : m_(metric) {}
+
+  std::string name() const override { return M::kName; }
+  std::vector<std::string> invariant_names() const override {
+    return std::vector<std::string>(M::kInvariantNames, M::kInvariantNames + M::kNumInvariants);
+  }
+  Landmarks landmarks() const override { return m_.landmarks(); }
+  void inverse_metric(const double x[4], double gi[4][4]) const override { m_.inverse_metric(x, gi); }
+  void rhs(const double y[8], double dy[8]) const override { m_.rhs(y, dy); }
+  void rhs_autodiff(const double y[8], double dy[8]) const override { wv::rhs_autodiff(m_, y, dy); }
+  void invariants(const double y[8], double* out) const override { m_.invariants(y, out); }
+  std::string origin_problem(const double pos[3], int sheet) const override {
+    return wv::origin_problem(m_, pos, sheet);
+  }
+  bool initial_state(const double pos[3], const double dir[3], int sheet, double y[8]) const override {
+    return photon_state(m_, pos, dir, sheet, y);
+  }
+  bool observer_frame(const double x[4], bool generic, ObserverFrame& f) const override {
+    return generic ? observer_frame_generic(m_, x, f) : wv::observer_frame(m_, x, f);
+  }
+
+ private:
+  M m_;
+};
+
+}  // namespace wv

@@ -1,0 +1,53 @@
+// What a render is asked for and what it returns: the options (typed, already validated by the Python
+// layer, which owns their defaults), the film with its statistics, and the recorded path segments.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "film/film.h"
+#include "spacetime/geodesic.h"
+
+namespace wv {
+
+struct RenderOptions {
+  int spp = 16;
+  uint64_t seed = 0;
+  int max_depth = 8;   // geodesic segments per path
+  int rr_depth = 3;    // Russian roulette from this segment on
+  bool light_sampling = true;
+  TraceOptions trace;  // tol, max_steps, escape_radius, max_drift (record is ignored)
+  double chord_tol = 1e-3;
+  bool aim_lights = true;  // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
+  bool light_margin = true;  // ... and enlarge quad and disk proxies by that shift (lensed images are larger)
+  bool batch = true;       // curved space: step the geodesics of many samples together in SIMD lanes
+  // Local error tolerance of pilot geodesics (at least trace.tol). A pilot only decides where a light's
+  // proxy is seen from, never what a sample is worth, so its accuracy cannot bias the image.
+  double pilot_tol = 1e-4;
+  int threads = 0;
+  std::vector<int32_t> record_pixels;  // (x, y) pairs whose paths are recorded
+  // Called from the calling thread every ~20 ms with (samples done, samples total); false cancels.
+  std::function<bool(int64_t, int64_t)> poll;
+};
+
+enum SegmentKind : int8_t { kCameraSegment = 0, kBounceSegment = 1, kLightSegment = 2 };
+
+struct RecordedSegment {
+  Track track;
+  int32_t px, py, sample, bounce;
+  int8_t kind, status;
+  int32_t sheet;
+};
+
+struct RenderResult {
+  Film film;
+  bool completed = true;
+  int64_t status_counts[6] = {0, 0, 0, 0, 0, 0};  // geodesic segments by RayStatus
+  int64_t total_steps = 0;
+  int64_t segments = 0;
+  int num_columns = 0;
+  std::vector<RecordedSegment> recorded;
+};
+
+}  // namespace wv
