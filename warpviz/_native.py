@@ -38,7 +38,7 @@ def registered_metrics() -> list[dict]:
     list of dict
         One per metric, in registration order: ``name`` (str), ``class_name`` (str), ``summary`` (str),
         ``params`` (list of str, constructor order), ``param_specs`` (list of dict with ``name``, ``lo``,
-        ``lo_open``, ``hi``, ``hi_open``, ``default``, ``doc``), ``param_relation`` (str, a constraint
+        ``lo_open``, ``hi``, ``hi_open``, ``default``, ``example``, ``doc``), ``param_relation`` (str, a constraint
         between parameters or ""), ``invariants`` (list of str, the first ``"H"``), ``sheets`` (int),
         ``flat`` (bool) and ``lane_rhs`` (bool: a hand-written right-hand side that steps in SIMD lanes).
     """

@@ -17,6 +17,7 @@ from __future__ import annotations
 import inspect
 import math
 import numbers
+import warnings
 from typing import Any, ClassVar
 
 from warpviz._native import core, registered_metrics
@@ -66,6 +67,13 @@ def _entry(name: str) -> dict:
         if entry["name"] == name:
             return entry
     raise RuntimeError(f"metric {name!r} is not compiled into the core")  # pragma: no cover
+
+
+class PerformanceWarning(UserWarning):
+    """A metric that runs much slower than it could (no hand-written right-hand side)."""
+
+
+_WARNED_SLOW: set[str] = set()
 
 
 class Metric:
@@ -118,6 +126,18 @@ class Metric:
             raise ValueError(f"{cls}: {problem.split(': ', 1)[-1]}")
         for k, v in values.items():
             object.__setattr__(self, k, v)
+        entry = self.registry_entry
+        if not entry["lane_rhs"] and not entry["flat"] and self.name not in _WARNED_SLOW:
+            _WARNED_SLOW.add(self.name)
+            warnings.warn(f"metric {self.name!r} has no hand-written right-hand side: its geodesics are "
+                          "differentiated automatically and cannot step in SIMD lanes (~6x slower); "
+                          "see docs/adding-a-metric.md", PerformanceWarning, stacklevel=2)  # fmt: skip
+
+    @classmethod
+    def example(cls) -> "Metric":
+        """An instance with the registry's example parameters: a strong-field case (Kerr spin 0.9, ...)
+        that the contract tests and the docs use."""
+        return cls(**{s["name"]: s["example"] for s in cls._specs})
 
     def __setattr__(self, key, value):
         raise AttributeError(f"{type(self).__name__} is immutable")

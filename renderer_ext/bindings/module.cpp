@@ -274,6 +274,7 @@ nb::list metrics() {
       spec["hi"] = p.hi;
       spec["hi_open"] = p.hi_open;
       spec["default"] = p.value;
+      spec["example"] = p.example;
       spec["doc"] = p.doc;
       specs.append(spec);
     }

@@ -25,7 +25,7 @@ struct EllisWormhole : MetricBase<EllisWormhole> {
   static constexpr const char* kName = "ellis";
   static constexpr const char* kClassName = "EllisWormhole";
   static constexpr const char* kSummary = "Ellis wormhole joining two asymptotically flat sheets";
-  static constexpr ParamSpec kParams[] = {{"throat", 0.0, true, kUnbounded, false, 1.0, "throat radius b0 > 0"}};
+  static constexpr ParamSpec kParams[] = {{"throat", 0.0, true, kUnbounded, false, 1.0, 1.0, "throat radius b0 > 0"}};
   static constexpr int kNumParams = 1;
   static constexpr int kSheets = 2;
   static constexpr int kNumInvariants = 3;

@@ -26,8 +26,8 @@ struct Kerr : MetricBase<Kerr> {
   static constexpr const char* kClassName = "Kerr";
   static constexpr const char* kSummary = "Rotating black hole (Cartesian Kerr-Schild coordinates, spin along +z)";
   static constexpr ParamSpec kParams[] = {
-      {"mass", 0.0, true, kUnbounded, false, 1.0, "M > 0"},
-      {"spin", -1.0, true, 1.0, true, 0.0, "a/M, |spin| < 1 (|a/M| >= 1 has no horizon); negative spins rotate about -z"}};
+      {"mass", 0.0, true, kUnbounded, false, 1.0, 1.0, "M > 0"},
+      {"spin", -1.0, true, 1.0, true, 0.0, 0.9, "a/M, |spin| < 1 (|a/M| >= 1 has no horizon); negative spins rotate about -z"}};
   static constexpr int kNumParams = 2;
   static constexpr int kNumInvariants = 4;
   static constexpr const char* kInvariantNames[kNumInvariants] = {"H", "E", "Lz", "Q"};

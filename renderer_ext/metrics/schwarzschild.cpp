@@ -20,7 +20,7 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
   static constexpr const char* kName = "schwarzschild";
   static constexpr const char* kClassName = "Schwarzschild";
   static constexpr const char* kSummary = "Non-rotating black hole (Cartesian Kerr-Schild coordinates)";
-  static constexpr ParamSpec kParams[] = {{"mass", 0.0, true, kUnbounded, false, 1.0, "M > 0: horizon 2M, photon sphere 3M"}};
+  static constexpr ParamSpec kParams[] = {{"mass", 0.0, true, kUnbounded, false, 1.0, 1.0, "M > 0: horizon 2M, photon sphere 3M"}};
   static constexpr int kNumParams = 1;
   static constexpr int kNumInvariants = 4;
   static constexpr const char* kInvariantNames[kNumInvariants] = {"H", "E", "Lz", "L2"};

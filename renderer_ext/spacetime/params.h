@@ -19,6 +19,7 @@ struct ParamSpec {
   double hi;
   bool hi_open;
   double value;     // default
+  double example;   // a strong-field value the contract tests and examples use (spin 0.9, ...)
   const char* doc;  // one line: meaning and unit
 };
 
