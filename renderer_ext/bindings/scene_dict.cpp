@@ -113,10 +113,11 @@ void environment_from(const nb::dict& d, const std::string& w, Environment& env)
   }
   if (d.contains("stars") && !d["stars"].is_none()) {
     const nb::dict s = sub(d["stars"], w + ".stars");
-    env.stars.density = number(s, "density", w + ".stars", 1000.0);
-    env.stars.brightness = number(s, "brightness", w + ".stars", 10.0);
-    env.stars.size = number(s, "size", w + ".stars", 0.002);
-    env.stars.seed = uint64_t(number(s, "seed", w + ".stars", 0.0));
+    // No defaults here: the scene compiler (warpviz's TOML reader) owns them and writes every key.
+    env.stars.density = number(s, "density", w + ".stars", NAN, true);
+    env.stars.brightness = number(s, "brightness", w + ".stars", NAN, true);
+    env.stars.size = number(s, "size", w + ".stars", NAN, true);
+    env.stars.seed = uint64_t(number(s, "seed", w + ".stars", NAN, true));
     if (env.stars.density < 0 || env.stars.size <= 0) fail(w + ".stars", "needs density >= 0 and size > 0");
   }
   if (d.contains("spots") && !d["spots"].is_none()) {
