@@ -5,7 +5,7 @@ The renderer starts a pixel's camera ray from ``camera["position"]`` along
     d = normalize(forward + sx right + sy up),
     sx = (2 (x + u) / W - 1) tan(fov / 2) W / H,    sy = (1 - 2 (y + v) / H) tan(fov / 2),
 
-with (u, v) the sample's jitter in [0, 1)² (``renderer_ext/integrators/path_tracer.h``), pixel (0, 0) the
+with (u, v) the sample's jitter in [0, 1)² (``renderer_ext/integrators/camera.h``), pixel (0, 0) the
 top-left one, ``forward`` towards ``look_at`` and ``right = forward × up``. In curved space that direction
 is measured by the local static observer and the ray then bends; in flat space it is the straight line
 drawn here (jitter (1/2, 1/2): the pixel centre), the comparison the teaching view shows beside the bent

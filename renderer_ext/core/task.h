@@ -1,6 +1,6 @@
 // A minimal lazy coroutine task (C++20), so a light path can be written as straight-line code that
 // `co_await`s each geodesic it needs while a scheduler steps many paths' geodesics together in SIMD lanes
-// (integrators/path_tracer.h, spacetime/ray_batch.h).
+// (integrators/sample_scheduler.h, spacetime/ray_batch.h).
 //
 //   Task<int> f() { co_return 1; }
 //   Task<void> g() { int x = co_await f(); ... }

@@ -40,6 +40,13 @@ struct RecordedSegment {
   int32_t sheet;
 };
 
+// What a chunk of samples counts (summed into RenderResult): geodesic segments by RayStatus, integration
+// steps, segments traced (pilots included).
+struct RenderStats {
+  int64_t counts[6] = {0, 0, 0, 0, 0, 0};
+  int64_t steps = 0, segments = 0;
+};
+
 struct RenderResult {
   Film film;
   bool completed = true;

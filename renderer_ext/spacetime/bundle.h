@@ -15,6 +15,7 @@
 #include "spacetime/geodesic.h"
 #include "spacetime/ray_batch.h"
 #include "spacetime/steppers/common.h"
+#include "spacetime/track.h"
 
 namespace wv {
 

@@ -1,5 +1,7 @@
-// Integrating one null geodesic: stepping, conserved-quantity monitoring, termination status,
-// horizon/escape crossings located on the dense output, asymptotic directions, recording.
+// Integrating one null geodesic: the ray state machine (stepping, conserved-quantity monitoring,
+// termination status, horizon/escape crossings located on the dense output, recording) and integrate_ray.
+// The asymptotic direction of escaped rays is in asymptotics.h, the recorded polyline in track.h, the
+// step-size control in steppers/step_control.h.
 #pragma once
 
 #include <algorithm>
@@ -9,8 +11,11 @@
 
 #include "core/fastmath.h"
 #include "core/root.h"
+#include "spacetime/asymptotics.h"
 #include "spacetime/frame.h"
 #include "spacetime/metric.h"
+#include "spacetime/steppers/step_control.h"
+#include "spacetime/track.h"
 
 namespace wv {
 
@@ -61,77 +66,6 @@ struct NoSurfaces {
   static constexpr bool kDenseEnd = false;
 };
 
-// One recorded polyline: xyz (3 per point, user frame) and `columns` values per point:
-// affine_param, coord_time, r, step_size, hamiltonian_err, drift of invariants 1..K-1, redshift
-// (photon frequency seen by the local static observer / ZAMO over the one at the ray's start), sheet.
-struct Track {
-  std::vector<double> xyz;
-  std::vector<double> cols;
-};
-
-template <class M>
-constexpr int track_columns() {
-  return 5 + (M::kNumInvariants - 1) + 2;
-}
-
-// Gauss-Legendre rule on [0, 1], nodes by Newton iteration on the Legendre recurrence.
-template <int N>
-struct GaussLegendre {
-  double x[N], w[N];
-  GaussLegendre() {
-    for (int i = 0; i < N; ++i) {
-      double z = std::cos(M_PI * (i + 0.75) / (N + 0.5)), dp = 1.0;
-      for (int it = 0; it < 100; ++it) {
-        double p0 = 1.0, p1 = z;
-        for (int k = 2; k <= N; ++k) {
-          const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-          p0 = p1;
-          p1 = p2;
-        }
-        dp = N * (z * p1 - p0) / (z * z - 1.0);
-        const double dz = p1 / dp;
-        z -= dz;
-        if (std::fabs(dz) < 1e-16) break;
-      }
-      x[i] = 0.5 * (1.0 - z);
-      w[i] = 1.0 / ((1.0 - z * z) * dp * dp);
-    }
-  }
-};
-
-inline const GaussLegendre<16>& gauss_legendre16() {
-  static const GaussLegendre<16> rule;
-  return rule;
-}
-
-// Direction of motion at infinity of an outgoing ray at state y. The momentum change still to come is
-// integrated along the straight continuation x + v s (first-order Born approximation, 16-point
-// Gauss-Legendre in u = c / (c + s)), so the error is second order in the field left beyond y:
-// O(M^2 b / r^3) for a mass M, instead of the O(M b / r^2) of taking the local direction.
-template <class M>
-void asymptotic_direction(const M& m, const double y[8], double dir[3]) {
-  double f[8];
-  m.rhs(y, f);
-  const double v[3] = {f[1], f[2], f[3]};
-  const double vn = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  const double r0 = std::sqrt(y[1] * y[1] + y[2] * y[2] + y[3] * y[3]);
-  double p[3] = {y[5], y[6], y[7]};
-  if (vn > 0.0 && r0 > 0.0) {
-    const double c = r0 / vn;
-    const auto& gl = gauss_legendre16();
-    double ys[8], fs[8];
-    for (int q = 0; q < 16; ++q) {
-      const double u = gl.x[q], s = c * (1.0 - u) / u, w = gl.w[q] * c / (u * u);
-      for (int i = 0; i < 8; ++i) ys[i] = y[i];
-      for (int i = 0; i < 3; ++i) ys[1 + i] += v[i] * s;
-      m.rhs(ys, fs);
-      for (int i = 0; i < 3; ++i) p[i] += w * fs[5 + i];
-    }
-  }
-  const double pn = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-  for (int i = 0; i < 3; ++i) dir[i] = pn > 0.0 ? p[i] / pn : 0.0;
-}
-
 inline bool state_finite(const double y[8]) {
   for (int i = 0; i < 8; ++i)
     if (!std::isfinite(y[i])) return false;
@@ -143,35 +77,6 @@ bool moving_outward(const M& m, const double y[8]) {
   double f[8];
   m.rhs(y, f);
   return y[1] * f[1] + y[2] * f[2] + y[3] * f[3] > 0.0;
-}
-
-// The step controller's transcendental part, from the scaled error e of a trial step and log_prev, the
-// log error kept from the last accepted step: log(max(e, 1e-10)) and the factors by which h changes after
-// accepting (PI control: Gustafsson; Hairer & Wanner's constants) or rejecting the step, before clamping.
-// T is double, or Lanes when a batch computes them for all its rays at once (the same bits either way).
-template <class T>
-struct StepFactors {
-  T log_e, accept, reject;
-};
-
-template <class T>
-WV_INLINE T step_log_error(T e) {
-  return fast_log(max_of(e, T{} + 1e-10));  // (NaN -> 1e-10: such a step is rejected anyway)
-}
-template <int Order, class T>
-WV_INLINE T accept_factor(T log_e, T log_prev) {
-  constexpr double beta = 0.04, alpha = 1.0 / Order - 0.75 * beta;
-  return 0.9 * fast_exp(beta * log_prev - alpha * log_e);
-}
-template <int Order, class T>
-WV_INLINE T reject_factor(T log_e) {
-  return 0.9 * fast_exp(log_e * (-1.0 / Order));
-}
-// All three at once, for a batch (its lanes need both factors); a lone ray computes only the one it uses.
-template <int Order, class T>
-WV_INLINE StepFactors<T> step_factors(T e, T log_prev) {
-  const T log_e = step_log_error(e);
-  return {log_e, accept_factor<Order>(log_e, log_prev), reject_factor<Order>(log_e)};
 }
 
 // Straight line to the escape sphere: Minkowski needs no integration at all.

@@ -4,7 +4,7 @@
 // step, crossings, monitoring and recording stay per ray, in the very GeodesicRay logic that traces a
 // ray on its own (geodesic.h), which sees its lane through StepperLane. When a ray ends its lane takes the next
 // job (run_lanes): the next ray of a trace() block, or the next geodesic that a path tracer's sample
-// waits for (integrators/path_tracer.h), so lanes stay busy; each job has its own tolerance.
+// waits for (integrators/sample_scheduler.h), so lanes stay busy; each job has its own tolerance.
 //
 // Every lane operation is the scalar operation, so a ray's result is bit-identical to tracing it alone
 // (tests/test_batch.py), whatever the other lanes hold, the thread count or the instruction set.
@@ -18,6 +18,7 @@
 #include "core/simd.h"
 #include "spacetime/geodesic.h"
 #include "spacetime/steppers/common.h"
+#include "spacetime/steppers/step_control.h"
 
 namespace wv {
 

@@ -1,0 +1,58 @@
+// The camera of a render: its viewing frame as measured by the observer at the camera (forward, right and
+// up in that observer's local frame), the start frame all camera rays share, and the jittered direction of
+// a pixel's camera ray (the same pinhole as warpviz/pinhole.py in flat space).
+#pragma once
+
+#include <cmath>
+#include <stdexcept>
+
+#include "core/rng.h"
+#include "core/vec3.h"
+#include "integrators/chart_geometry.h"
+#include "scene/light.h"
+#include "scene/scene.h"
+#include "spacetime/frame.h"
+
+namespace wv {
+
+template <class M>
+class CameraRays {
+ public:
+  CameraRays(const M& m, const Camera& c) : c_(c) {
+    const ChartGeometry<M> geo(m);
+    double x4[4];
+    if (!m.user_to_chart(&c.position.x, c.sheet, x4))
+      throw std::invalid_argument("camera position lies outside the metric's chart");
+    if (m.absorbed(x4)) throw std::invalid_argument("camera position lies inside the horizon");
+    ObserverFrame f;
+    if (!observer_frame(m, x4, f)) throw std::invalid_argument("camera position has no static or ZAMO observer");
+    const LinearMap L = geo.local_map(x4, f);
+    forward_ = normalize(L(c.look_at - c.position));
+    V3 up = L(c.up);
+    right_ = normalize(cross(forward_, up));
+    if (!(length(right_) > 0.5)) throw std::invalid_argument("camera up is parallel to the viewing direction");
+    up_ = cross(right_, forward_);
+    tan_half_ = std::tan(0.5 * c.fov * M_PI / 180.0);
+    start_ = geo.start_frame(c.position, c.sheet);
+  }
+
+  // Chart point and observer frame at the camera, where every camera ray starts.
+  const StartFrames::Entry& start() const { return start_; }
+
+  // Local-frame direction of a camera ray through pixel (px, py), jittered by the next two numbers of rng.
+  V3 direction(int px, int py, Rng& rng) const {
+    const Camera& cam = c_;
+    const double aspect = double(cam.width) / cam.height;
+    const double sx = (2.0 * (px + rng.uniform()) / cam.width - 1.0) * tan_half_ * aspect;
+    const double sy = (1.0 - 2.0 * (py + rng.uniform()) / cam.height) * tan_half_;
+    return normalize(forward_ + right_ * sx + up_ * sy);
+  }
+
+ private:
+  const Camera& c_;
+  StartFrames::Entry start_;
+  V3 forward_, right_, up_;
+  double tan_half_ = 1.0;
+};
+
+}  // namespace wv

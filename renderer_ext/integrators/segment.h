@@ -1,0 +1,155 @@
+// Geodesic segments of a light path: from the camera or just off a surface to the next surface or the sky,
+// a straight line in flat space (one BVH query, nothing integrated), in curved space a backward geodesic
+// tested against the scene's surfaces (surface_hits.h); SegmentEnd is where it ended.
+#pragma once
+
+#include <algorithm>
+#include <coroutine>
+
+#include "core/task.h"
+#include "core/vec3.h"
+#include "integrators/chart_geometry.h"
+#include "integrators/render_types.h"
+#include "integrators/sample_scheduler.h"
+#include "integrators/surface_hits.h"
+#include "scene/light.h"
+#include "scene/scene.h"
+#include "spacetime/frame.h"
+#include "spacetime/geodesic.h"
+#include "spacetime/track.h"
+
+namespace wv {
+
+// Where a geodesic segment ended.
+struct SegmentEnd {
+  int status = kNaN;
+  int prim = -1;
+  V3 pos;          // user frame
+  int sheet = 1;
+  V3 dir;          // escaped: direction on the sky; hit: local-frame direction of travel at the hit
+  double energy = 1.0;  // local energy at the end relative to the camera's (1 / redshift factor)
+  SurfacePoint surface;  // hit: user-frame normal and texture coordinates
+  V3 normal_local;      // hit: unit normal in the local frame
+  LinearMap to_local;   // hit: user-frame displacement -> local frame
+  long steps = 0;
+  double drift = 0.0;
+  double y[8];          // hit: chart state (backward momentum)
+  ObserverFrame frame;  // hit: the static observer (or ZAMO) there
+};
+
+// The ray leaving a surface starts a hair off it, on the side it leaves towards.
+inline V3 offset(V3 pos, V3 n_user, V3 n_local, V3 w) {
+  const double eps = 1e-7 * (1.0 + length(pos));
+  return pos + n_user * (dot(w, n_local) >= 0.0 ? eps : -eps);
+}
+
+template <class M, class S>
+class SegmentTracer {
+ public:
+  using Scheduler = SampleScheduler<M, S>;
+
+  // Segments are backward rays, unrecorded, that escape beyond the scene's bounding sphere.
+  SegmentTracer(const M& m, const Scene& sc, const RenderOptions& o) : m_(m), sc_(sc), o_(o), geo_(m) {
+    topt_ = o.trace;
+    topt_.record = false;
+    topt_.backward = true;
+    topt_.escape_radius = std::max(o.trace.escape_radius, 1.05 * sc.bound_radius + 1.0);
+  }
+
+  const TraceOptions& options() const { return topt_; }
+
+  // Traces the geodesic segment from user-frame point x on `sheet` along local direction d into e, as an
+  // awaitable: done at once in flat space, a coroutine waiting for its geodesic in curved space.
+  auto segment(V3 x, int sheet, V3 d, int skip, Track* track, RenderStats& st, PathFrames<M>& frames,
+               Scheduler* sched, SegmentEnd& e) const {
+    if constexpr (M::kFlat) {
+      (void)frames;
+      (void)sched;
+      flat_segment(x, sheet, d, skip, track, st, e);
+      return std::suspend_never{};
+    } else {
+      return curved_segment(x, sheet, d, skip, track, st, frames, sched, e);
+    }
+  }
+
+ private:
+  void flat_segment(V3 x, int sheet, V3 d, int skip, Track* track, RenderStats& st, SegmentEnd& e) const {
+    const double skip_dist = 1e-4 * (1.0 + length(x));
+    ++st.segments;
+    SegmentHit hit;
+    e.sheet = sheet;
+    if (sc_.closest_hit(x, d, 0.0, 1e300, sheet, skip, skip_dist, hit)) {
+      e.status = kHit;
+      e.prim = hit.prim;
+      e.pos = x + d * hit.t;
+      e.dir = d;
+      e.surface = sc_.surface(hit.prim, e.pos);
+      e.normal_local = e.surface.normal;
+    } else {
+      e.status = kEscaped;
+      e.dir = d;
+      e.pos = x + d * topt_.escape_radius;
+    }
+    if (track) flat_track(x, e.pos, sheet, *track);
+    ++st.counts[e.status];
+  }
+
+  Task<void> curved_segment(V3 x, int sheet, V3 d, int skip, Track* track, RenderStats& st, StartFrames& frames,
+                            Scheduler* sched, SegmentEnd& e) const {
+    const double skip_dist = 1e-4 * (1.0 + length(x));
+    ++st.segments;
+    double y[8];
+    if (!geo_.backward_state(x, sheet, d, y, frames)) {
+      e.status = kHorizon;  // started on or inside the horizon (a surface grazing it)
+      ++st.counts[e.status];
+      co_return;
+    }
+    const RayResult res = co_await Geodesic<M, S, SceneSurfaces<M>>(
+        m_, sched, y, sheet, topt_, track, SceneSurfaces<M>(m_, sc_, o_.chord_tol, skip, skip_dist));
+    e.status = res.status;
+    e.prim = res.prim;
+    e.pos = V3(res.pos);
+    e.sheet = res.sheet;
+    e.steps = res.n_steps;
+    for (int k = 0; k < M::kNumInvariants; ++k) e.drift = std::max(e.drift, res.drift[k]);
+    st.steps += res.n_steps;
+    ++st.counts[e.status];
+    if (e.status == kEscaped) {
+      e.dir = V3(res.dir);
+      e.energy = res.y[4];  // p_t of the backward ray = energy measured at rest at infinity
+    } else if (e.status == kHit) {
+      if (!observer_frame(m_, res.y, e.frame)) {
+        e.status = kHorizon;
+        co_return;
+      }
+      double n[3];
+      e.energy = -momentum_to_frame(e.frame, res.y + 4, n);
+      for (int i = 0; i < 8; ++i) e.y[i] = res.y[i];
+      e.dir = V3(n);
+      e.surface = sc_.surface(e.prim, e.pos);
+      e.normal_local = geo_.local_normal(res.y, e.frame, e.surface.normal);
+      e.to_local = geo_.local_map(res.y, e.frame);
+    }
+  }
+
+  void flat_track(V3 a, V3 b, int sheet, Track& t) const {
+    const double L = length(b - a);
+    for (int k = 0; k < 2; ++k) {
+      const V3 p = k == 0 ? a : b;
+      t.xyz.insert(t.xyz.end(), {p.x, p.y, p.z});
+      const double lam = k == 0 ? 0.0 : L;
+      t.cols.insert(t.cols.end(), {lam, -lam, length(p), lam, 0.0});
+      for (int j = 1; j < M::kNumInvariants; ++j) t.cols.push_back(0.0);
+      t.cols.push_back(1.0);
+      t.cols.push_back(double(sheet));
+    }
+  }
+
+  const M& m_;
+  const Scene& sc_;
+  const RenderOptions& o_;
+  ChartGeometry<M> geo_;
+  TraceOptions topt_;
+};
+
+}  // namespace wv
