@@ -34,11 +34,7 @@ using namespace wv::bindings;
 // Names of the per-point columns of recorded paths (geodesic.h, Track).
 nb::list column_names(const std::string& metric) {
   nb::list names;
-  for (const char* c : {"affine_param", "coord_time", "r", "step_size", "hamiltonian_err"}) names.append(c);
-  const auto& inv = wv::find_metric(metric).invariants;
-  for (size_t k = 1; k < inv.size(); ++k) names.append(inv[k] + "_drift");
-  names.append("redshift");
-  names.append("sheet");
+  for (const auto& c : wv::track_column_names(wv::find_metric(metric).invariants)) names.append(c);
   return names;
 }
 
@@ -211,9 +207,8 @@ nb::dict render(nb::dict scene, nb::dict options) {
   aovs["samples"] = to_numpy(std::move(samples), {H, W});
   out["aovs"] = aovs;
   out["completed"] = r.completed && !interrupted;
-  const char* status_names[] = {"escaped", "hit", "horizon", "max_steps", "invariant_violation", "nan"};
   nb::dict counts;
-  for (int k = 0; k < 6; ++k) counts[status_names[k]] = r.status_counts[k];
+  for (int k = 0; k < wv::kNumStatuses; ++k) counts[wv::kStatusNames[k]] = r.status_counts[k];
   stats["segments_by_status"] = counts;
   stats["segments"] = r.segments;
   stats["steps"] = r.total_steps;
@@ -221,28 +216,21 @@ nb::dict render(nb::dict scene, nb::dict options) {
   stats["threads"] = wv::resolve_threads(o.threads);
   out["stats"] = stats;
   if (!o.record_pixels.empty()) {
-    const size_t N = r.recorded.size(), C = size_t(r.num_columns);
-    std::vector<int64_t> offsets(N + 1, 0);
-    for (size_t i = 0; i < N; ++i) offsets[i + 1] = offsets[i] + int64_t(r.recorded[i].track.xyz.size() / 3);
-    const size_t P = size_t(offsets[N]);
-    std::vector<double> points;
-    points.reserve(3 * P);
-    std::vector<double> cols(C * P);
+    const size_t N = r.recorded.size();
+    wv::PackedTracks packed =
+        wv::pack_tracks(N, r.num_columns, [&](size_t i) -> wv::Track& { return r.recorded[i].track; });
+    const size_t P = packed.points.size() / 3, C = size_t(r.num_columns);
     std::vector<int32_t> px(N), py(N), sample(N), bounce(N), sheet(N);
     std::vector<int8_t> kind(N), status(N);
     for (size_t i = 0; i < N; ++i) {
       const auto& seg = r.recorded[i];
-      points.insert(points.end(), seg.track.xyz.begin(), seg.track.xyz.end());
-      const size_t np = seg.track.xyz.size() / 3, base = size_t(offsets[i]);
-      for (size_t j = 0; j < np; ++j)
-        for (size_t c = 0; c < C; ++c) cols[c * P + base + j] = seg.track.cols[j * C + c];
       px[i] = seg.px; py[i] = seg.py; sample[i] = seg.sample; bounce[i] = seg.bounce;
       kind[i] = seg.kind; status[i] = seg.status; sheet[i] = seg.sheet;
     }
     nb::dict rays;
-    rays["points"] = to_numpy(std::move(points), {P, 3});
-    rays["offsets"] = to_numpy(std::move(offsets), {N + 1});
-    rays["columns"] = to_numpy(std::move(cols), {C, P});
+    rays["points"] = to_numpy(std::move(packed.points), {P, 3});
+    rays["offsets"] = to_numpy(std::move(packed.offsets), {N + 1});
+    rays["columns"] = to_numpy(std::move(packed.columns), {C, P});
     rays["column_names"] = column_names(metric);
     rays["pixel_x"] = to_numpy(std::move(px), {N});
     rays["pixel_y"] = to_numpy(std::move(py), {N});
@@ -313,6 +301,10 @@ nb::dict landmarks(const std::string& metric, const std::vector<double>& params)
 NB_MODULE(_core, m) {
   m.doc() = "warpviz native core: null geodesics of Minkowski, Schwarzschild, Kerr and Ellis spacetimes";
   m.def("metrics", &metrics, "Registered metrics and their facts (engine/registry.h).");
+  m.def("status_names", []() {
+    std::vector<std::string> names(wv::kStatusNames, wv::kStatusNames + wv::kNumStatuses);
+    return names;
+  }, "How a ray can end, by status code (spacetime/geodesic.h).");
   m.def("landmarks", &landmarks, "metric"_a, "params"_a, "Landmark radii of a metric (spacetime/landmarks.h).");
   m.def(
       "params_problem",

@@ -116,22 +116,12 @@ TraceResult trace_bundle(const M& m, const TraceRequest& req) {
   if (req.options.record) {
     const int C = track_columns<M>();
     out.num_columns = C;
-    out.offsets.assign(n + 1, 0);
-    for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] = out.offsets[i] + int64_t(tracks[i].xyz.size() / 3);
-    const std::size_t P = std::size_t(out.offsets[n]);
-    out.points.reserve(3 * P);
-    out.columns.assign(std::size_t(C) * P, 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-      out.points.insert(out.points.end(), tracks[i].xyz.begin(), tracks[i].xyz.end());
-      const std::size_t base = std::size_t(out.offsets[i]), np = tracks[i].xyz.size() / 3;
-      for (std::size_t j = 0; j < np; ++j)
-        for (int c = 0; c < C; ++c) out.columns[std::size_t(c) * P + base + j] = tracks[i].cols[j * C + c];
-      Track().xyz.swap(tracks[i].xyz);
-      Track().cols.swap(tracks[i].cols);
-    }
+    PackedTracks packed = pack_tracks(n, C, [&](std::size_t i) -> Track& { return tracks[i]; });
+    out.points = std::move(packed.points);
+    out.offsets = std::move(packed.offsets);
+    out.columns = std::move(packed.columns);
   }
   return out;
 }
-
 
 }  // namespace wv

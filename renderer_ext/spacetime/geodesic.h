@@ -27,6 +27,10 @@ enum RayStatus : int8_t {
   kInvariantViolation = 4,
   kNaN = 5,
 };
+constexpr int kNumStatuses = 6;
+// Their names, the one list the bindings and Python's RayStatus follow.
+inline constexpr const char* kStatusNames[kNumStatuses] = {"escaped", "hit", "horizon", "max_steps",
+                                                           "invariant_violation", "nan"};
 
 struct TraceOptions {
   double tol = 1e-9;            // relative + absolute local error per step (adaptive steppers)
