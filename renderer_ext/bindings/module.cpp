@@ -186,25 +186,18 @@ nb::dict render(nb::dict scene, nb::dict options) {
   }
 
   const wv::Film& f = r.film;
-  const size_t W = size_t(f.width), H = size_t(f.height), n = W * H;
-  std::vector<float> rgb(3 * n), steps(n), errors(n), samples(n);
-  for (size_t i = 0; i < n; ++i) {
-    const double c = f.samples[i] > 0 ? 1.0 / f.samples[i] : 0.0;
-    for (int k = 0; k < 3; ++k) rgb[3 * i + k] = float(f.rgb_sum[3 * i + k] * c);
-    steps[i] = float(f.steps_sum[i] * c);
-    errors[i] = float(f.errors[i] * c);
-    samples[i] = float(f.samples[i]);
-  }
+  const size_t W = size_t(f.width), H = size_t(f.height);
+  wv::ResolvedFilm resolved = wv::resolve(f);
   nb::dict out, aovs, stats;
-  out["rgb"] = to_numpy(std::move(rgb), {H, W, 3});
+  out["rgb"] = to_numpy(std::move(resolved.rgb), {H, W, 3});
   aovs["redshift"] = to_numpy(std::vector<float>(f.redshift), {H, W});
-  aovs["n_steps"] = to_numpy(std::move(steps), {H, W});
+  aovs["n_steps"] = to_numpy(std::move(resolved.n_steps), {H, W});
   aovs["max_drift"] = to_numpy(std::vector<float>(f.max_drift), {H, W});
   aovs["status"] = to_numpy(std::vector<float>(f.status), {H, W});
   aovs["depth"] = to_numpy(std::vector<float>(f.depth), {H, W});
   aovs["normal"] = to_numpy(std::vector<float>(f.normal), {H, W, 3});
-  aovs["errors"] = to_numpy(std::move(errors), {H, W});
-  aovs["samples"] = to_numpy(std::move(samples), {H, W});
+  aovs["errors"] = to_numpy(std::move(resolved.errors), {H, W});
+  aovs["samples"] = to_numpy(std::move(resolved.samples), {H, W});
   out["aovs"] = aovs;
   out["completed"] = r.completed && !interrupted;
   nb::dict counts;

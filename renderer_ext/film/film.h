@@ -39,4 +39,28 @@ struct Film {
   }
 };
 
+// The film resolved to per-pixel means, float32 as the image and its AOVs are stored: rgb (H, W, 3) mean
+// radiance, n_steps and errors (H, W) means per sample, samples (H, W) counts. The first-hit AOVs of the
+// film are already per pixel and are used as they are.
+struct ResolvedFilm {
+  std::vector<float> rgb, n_steps, errors, samples;
+};
+
+inline ResolvedFilm resolve(const Film& f) {
+  const size_t n = size_t(f.width) * size_t(f.height);
+  ResolvedFilm out;
+  out.rgb.resize(3 * n);
+  out.n_steps.resize(n);
+  out.errors.resize(n);
+  out.samples.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double c = f.samples[i] > 0 ? 1.0 / f.samples[i] : 0.0;
+    for (int k = 0; k < 3; ++k) out.rgb[3 * i + k] = float(f.rgb_sum[3 * i + k] * c);
+    out.n_steps[i] = float(f.steps_sum[i] * c);
+    out.errors[i] = float(f.errors[i] * c);
+    out.samples[i] = float(f.samples[i]);
+  }
+  return out;
+}
+
 }  // namespace wv
