@@ -1,5 +1,6 @@
-"""Helpers shared by the benchmark scripts: machine description, CPU timing, CSV and plot output, and
-the equal-error interpolation of work-precision curves.
+"""Helpers shared by the benchmark scripts: machine description, CPU timing, CSV and plot output, the
+equal-error interpolation of work-precision curves, and the far observer's image plane (through the
+renderer's pinhole camera, :mod:`warpviz.scene.camera`).
 
 Timings are CPU seconds of this process (``time.process_time``, all threads summed), so a rate is per
 core by construction and is not inflated when other processes share the machine. Wall-clock seconds
@@ -19,6 +20,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from warpviz.scene.camera import pinhole_directions
 
 #: Default output folder of the benchmark scripts.
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -183,3 +186,46 @@ def pyplot():
         print("matplotlib is not installed: no plots written (pip install matplotlib)")
         return None
     return plt
+
+
+def pinhole_grid(position, *, size: int, half_width: float, look_at=(0.0, 0.0, 0.0), up=(0.0, 0.0, 1.0),
+                 equal_angles: bool = False) -> np.ndarray:
+    """Unit directions of a square grid of rays through the image plane of a pinhole camera.
+
+    The camera is the renderer's (:func:`warpviz.scene.camera.pinhole_directions`: the same basis, the
+    same pixel-to-direction map): at ``position``, looking at ``look_at`` with ``up`` towards the top of
+    the picture, its vertical field of view ``2 atan(half_width / distance)`` so that the picture spans
+    ``+-half_width`` at ``look_at``. The grid has ``size`` points across and up, corners included: the
+    pixel corners of a ``(size - 1)``-pixel square image.
+
+    Parameters
+    ----------
+    position : array_like, shape (3,)
+        Where the camera is (the rays' common origin).
+    size : int, keyword-only
+        Grid points per side, >= 2.
+    half_width : float, keyword-only
+        Half the side of the picture at ``look_at``.
+    look_at, up : array_like, shape (3,), keyword-only
+        View target and up hint (default the origin and +z).
+    equal_angles : bool, keyword-only
+        Space the grid points evenly in angle from the view axis (tangents of evenly spaced angles)
+        instead of evenly across the picture.
+
+    Returns
+    -------
+    numpy.ndarray, shape (size * size, 3), float64
+        Ray ``i * size + j`` goes through grid point ``j`` from the left and ``i`` from the bottom.
+    """
+    if size < 2:
+        raise ValueError(f"size must be at least 2, got {size}")
+    distance = float(np.linalg.norm(np.subtract(look_at, position)))
+    tan_half = half_width / distance
+    n = size - 1
+    camera = {"position": list(position), "look_at": list(look_at), "up": list(up),
+              "fov": math.degrees(2.0 * math.atan(tan_half)), "width": n, "height": n}  # fmt: skip
+    t = np.linspace(-1.0, 1.0, size)  # across the picture: -1 at the left (bottom) edge, +1 at the right (top)
+    if equal_angles:
+        t = np.tan(t * math.atan(tan_half)) / tan_half
+    x, y = np.meshgrid(0.5 * n * (1.0 + t), 0.5 * n * (1.0 - t))  # pixel coordinates: x right, y down
+    return pinhole_directions(camera, np.column_stack([x.ravel(), y.ravel()]), jitter=(0.0, 0.0))

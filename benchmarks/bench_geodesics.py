@@ -19,26 +19,24 @@ import argparse
 import csv
 import math
 import platform
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-import warpviz as wv
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import warpviz as wv  # noqa: E402
+from _common import pinhole_grid  # noqa: E402
 
 
 def image_plane(size: int, *, distance: float = 1000.0, inclination_deg: float = 60.0, half_width: float = 15.0):
-    """Origin (3,) and unit directions (size*size, 3) of a pinhole camera looking at the origin."""
+    """Origin (3,) and unit directions (size*size, 3) of a pinhole camera looking at the origin, its grid of
+    rays evenly spaced in angle (:func:`_common.pinhole_grid`)."""
     inc = math.radians(inclination_deg)
     origin = distance * np.array([math.sin(inc), 0.0, math.cos(inc)])
-    forward = -origin / distance
-    right = np.cross(forward, [0.0, 0.0, 1.0])
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    s = np.linspace(-1.0, 1.0, size) * math.atan(half_width / distance)
-    u, v = np.meshgrid(s, s)
-    dirs = forward + np.tan(u).reshape(-1, 1) * right + np.tan(v).reshape(-1, 1) * up
-    return origin, dirs / np.linalg.norm(dirs, axis=1)[:, None]
+    return origin, pinhole_grid(origin, size=size, half_width=half_width, equal_angles=True)
 
 
 def angular_error(a: wv.RayBundle, ref: wv.RayBundle) -> tuple[float, int]:

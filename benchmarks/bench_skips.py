@@ -22,21 +22,17 @@ import argparse
 import sys
 from pathlib import Path
 
-import numpy as np
-
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import warpviz as wv  # noqa: E402
-from _common import RESULTS, machine_line, timed, write_csv  # noqa: E402
+from _common import RESULTS, machine_line, pinhole_grid, timed, write_csv  # noqa: E402
 from _scenes import cornell_room  # noqa: E402
 
 
 def far_observer_plane(n: int, *, distance: float = 1000.0, half: float = 12.0):
-    """Directions of an n x n image plane seen from (-distance, 0, 0) towards the origin: (n*n, 3)."""
-    u = np.linspace(-half, half, n)
-    X, Y = np.meshgrid(u, u)
-    d = np.stack([np.full(X.size, distance), X.ravel(), Y.ravel()], axis=1)
-    return d / np.linalg.norm(d, axis=1)[:, None]
+    """Directions of an n x n image plane seen from (-distance, 0, 0) towards the origin: (n*n, 3), spanning
+    +-``half`` at the origin (:func:`_common.pinhole_grid`)."""
+    return pinhole_grid([-distance, 0.0, 0.0], size=n, half_width=half)
 
 
 def main(argv: list[str] | None = None) -> int:

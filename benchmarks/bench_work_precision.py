@@ -41,7 +41,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import warpviz as wv  # noqa: E402
-from _common import RESULTS, machine_line, pyplot, time_at_error, timed, write_csv  # noqa: E402
+from _common import RESULTS, machine_line, pinhole_grid, pyplot, time_at_error, timed, write_csv  # noqa: E402
 
 #: Exact deflection angles (copy of tests/data/exact_values.json): impact parameter b and angle alpha.
 SCHWARZSCHILD_DEFLECTION = [  # M = 1
@@ -101,17 +101,11 @@ def deflection_problem(cases, *, mass: float):
 
 def image_plane(size: int, *, distance: float = START_RADIUS, inclination_deg: float = 60.0, half_width: float = 15.0):
     """Origin (3,) and unit directions (size * size, 3) of a pinhole camera at ``distance`` looking at the
-    origin from ``inclination_deg`` off the +z axis, its field spanning +-``half_width`` at the centre."""
+    origin from ``inclination_deg`` off the +z axis, its field spanning +-``half_width`` at the centre
+    (:func:`_common.pinhole_grid`)."""
     inc = math.radians(inclination_deg)
     origin = distance * np.array([math.sin(inc), 0.0, math.cos(inc)])
-    forward = -origin / distance
-    right = np.cross(forward, [0.0, 0.0, 1.0])
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    t = np.linspace(-1.0, 1.0, size) * (half_width / distance)
-    u, v = (a.reshape(-1, 1) for a in np.meshgrid(t, t))
-    dirs = forward + u * right + v * up
-    return origin, dirs / np.linalg.norm(dirs, axis=1, keepdims=True)
+    return origin, pinhole_grid(origin, size=size, half_width=half_width)
 
 
 def direction_errors(rays: wv.RayBundle, ref: wv.RayBundle) -> dict:

@@ -12,8 +12,8 @@ from typer.testing import CliRunner
 
 import warpviz as wv
 from warpviz import cli
-from warpviz.catalog import shipped_scenes
 from warpviz.scene import Scene
+from warpviz.scene.catalog import shipped_scenes
 
 runner = CliRunner()
 HAS_RENDER = callable(getattr(wv, "render", None))
@@ -102,7 +102,7 @@ def test_render_bad_options_are_exit_2(tmp_path):
 
 
 class FakeImage:
-    """Stands in for warpviz.image.Image in tests of the command's own logic."""
+    """Stands in for warpviz.render.image.Image in tests of the command's own logic."""
 
     def __init__(self, width, height, *, completed):
         self.rgb = np.full((height, width, 3), 0.25, dtype=np.float32)

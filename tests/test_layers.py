@@ -1,10 +1,16 @@
-"""The C++ core's layers only include downward (docs/architecture.md).
+"""The C++ core's layers only include downward, and the Python package's only import downward
+(docs/architecture.md).
 
-core < spacetime < scene < film < integrators < engine < metrics, bindings. A file may include files of its
-own layer and of lower ones; nothing includes a metric file (they are top-floor plugins). This test reads
+C++: core < spacetime < scene < film < integrators < engine < metrics, bindings. A file may include files of
+its own layer and of lower ones; nothing includes a metric file (they are top-floor plugins). This test reads
 every #include "..." under renderer_ext/ and fails on one that points up.
+
+Python: _native, io < spacetime < tracing < scene < render < export < viewer < the package root < cli. A
+module may import modules of its own layer and of lower ones, at module level or inside a function; the one
+exception is reading ``__version__`` from the package root. This test reads every import of warpviz/.
 """
 
+import ast
 import re
 from pathlib import Path
 
@@ -59,3 +65,74 @@ def test_the_checker_refuses_upward_and_sideways_top_floor_includes():
     ok = '#include "core/simd.h"\n#include "spacetime/metric.h"\n#include "engine/register.h"\n'
     assert upward_includes("metrics/x.cpp", ok) == []
     assert upward_includes("spacetime/x.h", '#include "spacetime/frame.h"') == []
+
+
+# ------------------------------------------------------------------------------------------ Python
+PACKAGE = Path(__file__).resolve().parents[1] / "warpviz"
+PY_LAYERS = ["_native", "spacetime", "tracing", "scene", "render", "export", "viewer", "__init__", "cli"]
+PY_RANK = {name: i for i, name in enumerate(PY_LAYERS)}
+PY_RANK["_core"] = PY_RANK["io"] = PY_RANK["_native"]  # the floor: the compiled core and the file formats
+
+
+def modules():
+    return sorted(PACKAGE.rglob("*.py"))
+
+
+def py_layer_of(dotted: str) -> str:
+    """Layer of a module name such as ``warpviz.scene.loader`` (``warpviz`` alone: the package root)."""
+    parts = dotted.split(".")
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+def module_name(path: Path) -> str:
+    parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def upward_imports(name: str, text: str) -> list[str]:
+    """The imports of module ``name`` (dotted) with source ``text`` that point to a higher layer."""
+    here = "__init__" if name == "warpviz" else py_layer_of(name)
+    bad = []
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.Import):
+            targets = [(a.name, None) for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            targets = [(node.module, [a.name for a in node.names])]
+        else:
+            continue
+        if targets[0][0] == "warpviz" and targets[0][1]:  # from warpviz import _core, cli, __version__, ...
+            targets = [(f"warpviz.{n}", None) for n in targets[0][1]]
+        for target, _ in targets:
+            if target.split(".")[0] != "warpviz":
+                continue
+            if target == "warpviz.__version__":
+                continue  # the version string of the package root, read when a file is written
+            there = py_layer_of(target)
+            if there not in PY_RANK or PY_RANK[there] > PY_RANK[here]:
+                bad.append(target)
+    return bad
+
+
+def test_every_python_module_is_in_a_known_layer():
+    unknown = [module_name(p) for p in modules() if py_layer_of(module_name(p)) not in PY_RANK]
+    assert not unknown, f"modules outside the layers {PY_LAYERS}: {unknown}"
+
+
+@pytest.mark.parametrize("path", modules(), ids=lambda p: str(p.relative_to(PACKAGE.parent)))
+def test_python_imports_point_down(path):
+    name = module_name(path)
+    bad = upward_imports(name, path.read_text())
+    assert not bad, f"{name} imports {bad}: upward (layers: {' < '.join(PY_LAYERS)})"
+
+
+def test_the_python_checker_refuses_upward_imports():
+    assert upward_imports("warpviz.tracing.rays", "from warpviz.export import save_scene_vtm") == ["warpviz.export"]
+    assert upward_imports("warpviz.spacetime.x", "def f():\n    import warpviz.viewer.viewer\n") == [
+        "warpviz.viewer.viewer"]
+    assert upward_imports("warpviz.render.image", "from warpviz import Image") == ["warpviz.Image"]
+    assert upward_imports("warpviz.io", "from warpviz.elsewhere import y") == ["warpviz.elsewhere"]
+    ok = "from warpviz._native import core\nfrom warpviz.io import atomic_write\nfrom warpviz.scene import textures\n"
+    assert upward_imports("warpviz.scene.appearance", ok) == []
+    assert upward_imports("warpviz.tracing.rays", "from warpviz import __version__") == []
+    assert upward_imports("warpviz", "from warpviz.viewer import view") == []
+    assert upward_imports("warpviz.cli", "import warpviz") == []

@@ -5,7 +5,7 @@ import pytest
 
 import warpviz as wv
 from warpviz._native import testing as core
-from warpviz.metrics import _CLASSES
+from warpviz.spacetime.metrics import _CLASSES
 
 from conftest import metric_instances
 

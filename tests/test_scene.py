@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import warpviz as wv
-from warpviz.catalog import resolve_scene, shipped_scenes
 from warpviz.scene import AOV_NAMES, RENDER_OPTION_KEYS, Scene, SceneError, load_scene
+from warpviz.scene.catalog import resolve_scene, shipped_scenes
 
 SHIPPED = shipped_scenes()
 HAS_RENDER = callable(getattr(wv, "render", None))

@@ -17,7 +17,10 @@ from pyvista.plotting.plotter import _ALL_PLOTTERS  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkObjectBase  # noqa: E402
 from vtkmodules.vtkRenderingCore import vtkCoordinate  # noqa: E402
 
-from warpviz.picking import (  # noqa: E402
+from warpviz.scene.camera import camera_basis, flat_camera_ray, pinhole_directions  # noqa: E402
+from warpviz.viewer import default_off_screen  # noqa: E402
+from warpviz.viewer.meshes import _image_grid  # noqa: E402
+from warpviz.viewer.picking import (  # noqa: E402
     image_cell_to_pixel,
     pixel_for_ray,
     pixel_to_image_cell,
@@ -25,9 +28,7 @@ from warpviz.picking import (  # noqa: E402
     recorded_pixels,
     sparse_pixel_grid,
 )
-from warpviz.pinhole import camera_basis, flat_camera_ray, pinhole_directions  # noqa: E402
-from warpviz.view_content import camera_from_frustum, view_content  # noqa: E402
-from warpviz.viewer import _image_grid, default_off_screen  # noqa: E402
+from warpviz.viewer.view_content import camera_from_frustum, view_content  # noqa: E402
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 CACHE = Path(__file__).parent / "data" / "viewer_cache"

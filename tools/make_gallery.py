@@ -25,7 +25,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
 
     import warpviz as wv
-    from warpviz.catalog import scene_description, shipped_scenes
+    from warpviz.scene.catalog import scene_description, shipped_scenes
 
     GALLERY.mkdir(parents=True, exist_ok=True)
     rows = []

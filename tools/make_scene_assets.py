@@ -5,7 +5,7 @@
 writes
 
 * ``scenes/textures/accretion_disk.png``: 256 x 64 emission map of a thin accretion disk (u = radius from
-  the inner to the outer edge, v = azimuth), from :func:`warpviz.textures.accretion_disk`;
+  the inner to the outer edge, v = azimuth), from :func:`warpviz.scene.textures.accretion_disk`;
 * ``scenes/meshes/satellite_panels.obj``: the two solar panels and the strut of the satellite of
   figures 12 and 13 (its body is the scene's green cylinder), as an OBJ with texture coordinates.
 
@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-from warpviz.primitives import box_quads
-from warpviz.textures import accretion_disk, linear_to_srgb
+from warpviz.scene.primitives import box_quads
+from warpviz.scene.textures import accretion_disk, linear_to_srgb
 
 ROOT = Path(__file__).resolve().parents[1]
 

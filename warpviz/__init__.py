@@ -6,6 +6,13 @@ geodesics (:func:`render`, returning an :class:`Image`). Scenes come from TOML f
 (:func:`load_scene`); rays and scenes export to VTK files and show in a PyVista teaching view
 (:func:`view`).
 
+The package is layered by concern, each subpackage importing only those below it:
+:mod:`warpviz.spacetime` (metrics and their landmarks) < :mod:`warpviz.tracing` (:func:`trace`,
+:class:`RayBundle`) < :mod:`warpviz.scene` (scene files, the camera) < :mod:`warpviz.render`
+(:func:`render`, :class:`Image`) < :mod:`warpviz.export` (VTK multiblocks) < :mod:`warpviz.viewer`
+(the teaching view) < :mod:`warpviz.cli`. :mod:`warpviz._native` (the only importer of the compiled
+core) and :mod:`warpviz.io` (atomic file writes, VTK files) lie below them all.
+
 >>> import warpviz as wv
 >>> rays = wv.trace(wv.Kerr(mass=1.0, spin=0.9), [0, -50.0, 0], [0, 1.0, 0])
 >>> rays.status_names.tolist()
@@ -14,34 +21,28 @@ geodesics (:func:`render`, returning an :class:`Image`). Scenes come from TOML f
 
 from warpviz._native import build_info, registered_metrics
 from warpviz.export import save_scene_vtm, scene_multiblock
-from warpviz.geometry import (
-    camera_frustum,
-    ellis_embedding,
-    ellis_embedding_points,
-    ergosphere_surface,
-    horizon_surface,
-    metric_features,
-    photon_sphere,
-    scene_surfaces,
-    throat_surface,
-)
-from warpviz.image import Image
 from warpviz.io import atomic_write, read_rays, write_vtm, write_vtp
-from warpviz.metrics import (
+from warpviz.render import Image, render
+from warpviz.scene import Scene, SceneError, camera_frustum, load_scene, scene_surfaces
+from warpviz.spacetime import (
     METRIC_CLASSES,
     EllisWormhole,
     Kerr,
     Metric,
     Minkowski,
     Schwarzschild,
+    ellis_embedding,
+    ellis_embedding_points,
+    ergosphere_surface,
+    horizon_surface,
     metric_class,
+    metric_features,
     metric_from_dict,
     metric_from_params,
+    photon_sphere,
+    throat_surface,
 )
-from warpviz.rays import RayBundle, RayStatus
-from warpviz.render import render
-from warpviz.scene import Scene, SceneError, load_scene
-from warpviz.trace import STEPPERS, trace
+from warpviz.tracing import STEPPERS, RayBundle, RayStatus, trace
 from warpviz.viewer import view
 
 __version__ = "0.1.0"

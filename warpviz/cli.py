@@ -2,7 +2,7 @@
 
 Commands: ``render``, ``trace``, ``view``, ``validate``, ``scenes``, ``bench``, ``doctor``; ``warpviz COMMAND
 --help`` describes each. A scene is given as a path to a TOML file or as the name of a shipped scene
-(``fig07``; see :mod:`warpviz.catalog`).
+(``fig07``; see :mod:`warpviz.scene.catalog`).
 
 Exit codes: 0 success; 1 runtime error; 2 bad input (invalid scene file, bad option; the message goes to
 stderr without a traceback); 130 interrupted by Ctrl-C (``render`` first saves the partial image). Set
@@ -41,8 +41,8 @@ from rich.table import Table
 from rich.text import Text
 
 import warpviz
-from warpviz.catalog import looks_like_path, scene_description, scene_dirs, shipped_scenes
 from warpviz.scene import Scene, SceneError, load_scene
+from warpviz.scene.catalog import looks_like_path, scene_description, scene_dirs, shipped_scenes
 
 EXIT_OK = 0
 EXIT_ERROR = 1

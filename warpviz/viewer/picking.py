@@ -1,9 +1,9 @@
 """Which recorded rays belong to which pixel, and which pixel a cell of the displayed image is.
 
 These are the pure functions behind the clicks of the teaching view (:func:`warpviz.view`). Rays come
-either as a :class:`~warpviz.rays.RayBundle` recorded by :func:`warpviz.render` (per-ray ``pixel_x``,
+either as a :class:`~warpviz.tracing.rays.RayBundle` recorded by :func:`warpviz.render` (per-ray ``pixel_x``,
 ``pixel_y``, ``sample``, ``bounce`` in ``ray_data``) or as the polydata of
-:meth:`~warpviz.rays.RayBundle.to_pyvista` / :func:`warpviz.read_rays` (the same arrays as cell data,
+:meth:`~warpviz.tracing.rays.RayBundle.to_pyvista` / :func:`warpviz.read_rays` (the same arrays as cell data,
 cell ``i`` = ray ``i``).
 
 The image is displayed as a grid of W x H square cells in the plane z = 0, cell (i, j) covering
@@ -13,7 +13,7 @@ cell ``x + W (H - 1 - y)``.
 Examples
 --------
 >>> import numpy as np
->>> from warpviz.picking import image_cell_to_pixel, pixel_to_image_cell, sparse_pixel_grid
+>>> from warpviz.viewer.picking import image_cell_to_pixel, pixel_to_image_cell, sparse_pixel_grid
 >>> pixel_to_image_cell(3, 0, width=8, height=4), image_cell_to_pixel(27, width=8, height=4)
 (27, (3, 0))
 >>> sparse_pixel_grid(8, 4, nx=4, ny=2).tolist()
@@ -95,7 +95,7 @@ def rays_for_pixel(rays: Any, x: int, y: int, *, sample: int | None = None) -> n
     Examples
     --------
     >>> import numpy as np, warpviz as wv
-    >>> from warpviz.picking import rays_for_pixel
+    >>> from warpviz.viewer.picking import rays_for_pixel
     >>> rays = wv.trace(wv.Minkowski(), [0, 0, 0], [[1, 0, 0], [0, 1, 0], [0, 0, 1]], record=True)
     >>> rays = type(rays)(**{**rays.__dict__, "ray_data": {"pixel_x": np.array([2, 5, 2]),
     ...                                                    "pixel_y": np.array([1, 1, 1])}})

@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 
 from warpviz._native import core
-from warpviz.metrics import METRIC_CLASSES, Metric, metric_from_dict
-from warpviz.rays import RayBundle, recorded_point_data
+from warpviz.spacetime import METRIC_CLASSES, Metric, metric_from_dict
+from warpviz.tracing.rays import RayBundle, recorded_point_data
 
 STEPPERS = ("rk4", "dopri5", "dop853")
 

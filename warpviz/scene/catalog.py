@@ -7,7 +7,7 @@ installations that keep the scenes elsewhere.
 
 Examples
 --------
->>> from warpviz.catalog import resolve_scene, shipped_scenes
+>>> from warpviz.scene.catalog import resolve_scene, shipped_scenes
 >>> resolve_scene("fig07").name
 'fig07_schwarzschild_cornell.toml'
 >>> len(shipped_scenes()) >= 17
@@ -21,11 +21,13 @@ import os
 import tomllib
 from pathlib import Path
 
+__all__ = ["looks_like_path", "resolve_scene", "scene_description", "scene_dirs", "shipped_scenes"]
+
 
 def scene_dirs() -> list[Path]:
     """Folders searched for shipped scenes, in order: ``$WARPVIZ_SCENES`` entries, then ``<repo>/scenes``."""
     dirs = [Path(p) for p in os.environ.get("WARPVIZ_SCENES", "").split(os.pathsep) if p]
-    dirs.append(Path(__file__).resolve().parent.parent / "scenes")
+    dirs.append(Path(__file__).resolve().parents[2] / "scenes")
     return [d for d in dirs if d.is_dir()]
 
 

@@ -1,7 +1,7 @@
 """Rendering: path-trace a scene whose light rays are null geodesics.
 
 :func:`render` takes a scene file, a :class:`warpviz.scene.Scene` or a native scene dict
-(``docs/native-scene.md``) and returns an :class:`warpviz.image.Image`.
+(``docs/native-scene.md``) and returns an :class:`warpviz.render.image.Image`.
 
 Examples
 --------
@@ -32,10 +32,9 @@ from collections.abc import Callable
 import numpy as np
 
 from warpviz._native import core
-from warpviz.image import Image
-from warpviz.metrics import metric_from_params
-from warpviz.rays import RayBundle, recorded_point_data
-from warpviz.trace import STEPPERS, default_max_drift
+from warpviz.render.image import Image
+from warpviz.spacetime import metric_from_params
+from warpviz.tracing import STEPPERS, RayBundle, default_max_drift, recorded_point_data
 
 __all__ = ["render", "DEFAULT_OPTIONS"]
 
@@ -53,7 +52,7 @@ DEFAULT_OPTIONS = {
     "tol": 1e-7,
     "max_steps": 20000,
     "escape_radius": 1e3,
-    "max_drift": None,  # warpviz.trace.default_max_drift(tol)
+    "max_drift": None,  # warpviz.tracing.default_max_drift(tol)
     "chord_tolerance": 1e-3,
     "aim_lights": True,  # curved space: aim light samples with pilot geodesics (integrators/light_aim.h)
     "light_margin": True,  # ... and enlarge quad/disk light proxies by the aim's correction (lensed images)

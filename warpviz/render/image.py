@@ -6,7 +6,7 @@ every AOV as extra channels, render settings in the header) or as a tonemapped 8
 Examples
 --------
 >>> import numpy as np
->>> from warpviz.image import Image, tonemap
+>>> from warpviz.render.image import Image, tonemap
 >>> img = Image(rgb=np.full((2, 3, 3), 0.5, dtype=np.float32), aovs={}, completed=True, stats={},
 ...             metadata={"metric": "minkowski"})
 >>> img.shape
@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from warpviz.io import atomic_write
-from warpviz.rays import RayBundle
+from warpviz.tracing import RayBundle
 
 __all__ = ["Image", "tonemap", "AOV_DESCRIPTIONS"]
 

@@ -17,9 +17,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from warpviz.geometry import camera_frustum, ellis_embedding_points, metric_features, scene_surfaces
-from warpviz.metrics import Metric, metric_from_dict, metric_from_params, metric_names
-from warpviz.rays import RayBundle
+from warpviz.scene import camera_frustum, scene_surfaces
+from warpviz.spacetime import (
+    Metric,
+    ellis_embedding_points,
+    metric_features,
+    metric_from_dict,
+    metric_from_params,
+    metric_names,
+)
+from warpviz.tracing import RayBundle
 
 if TYPE_CHECKING:  # pragma: no cover
     import pyvista as pv

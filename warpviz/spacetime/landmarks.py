@@ -1,4 +1,5 @@
-"""Display meshes: the landmarks of each spacetime and the shapes of a native scene, as PyVista polydata.
+"""Display meshes of the landmarks of each spacetime (horizon, ergosphere, photon sphere or region, throat,
+embedding diagram), as PyVista polydata.
 
 Positions are in the frame rays are reported in (see the README): Cartesian Kerr–Schild x, y, z for
 Schwarzschild and Kerr (spin along +z), the per-sheet areal-radius frame for the Ellis wormhole.
@@ -22,107 +23,25 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from warpviz.metrics import Metric
+from warpviz.spacetime._meshes import _check_resolution, _revolve, _theta
+from warpviz.spacetime.metrics import Metric
 
 if TYPE_CHECKING:  # pragma: no cover
     import pyvista as pv
 
 __all__ = [
-    "camera_frustum",
     "ellis_embedding",
     "ellis_embedding_points",
     "ergosphere_surface",
     "horizon_surface",
     "metric_features",
     "photon_sphere",
-    "scene_surfaces",
     "throat_surface",
 ]
-
-
-
-# --------------------------------------------------------------------------------------------------
-# surfaces of revolution
-
-
-def _join(arrays: list[np.ndarray]) -> np.ndarray:
-    return np.concatenate(arrays).astype(np.int64) if arrays else np.zeros(0, dtype=np.int64)
-
-
-class _Piece:
-    """Polygons before they become polydata: points (n, 3), face sizes (F,), point ids (sum sizes,)."""
-
-    def __init__(self, points: np.ndarray, sizes: np.ndarray, conn: np.ndarray):
-        self.points = np.asarray(points, dtype=np.float64)
-        self.sizes = np.asarray(sizes, dtype=np.int64)
-        self.conn = np.asarray(conn, dtype=np.int64)
-
-    def polydata(self, **point_data: np.ndarray) -> pv.PolyData:
-        import pyvista as pv
-
-        if not self.points.size:
-            mesh = pv.PolyData()
-        else:  # VTK's flat layout: each face's size, then its point ids
-            starts = np.cumsum(self.sizes) - self.sizes
-            mesh = pv.PolyData(self.points, faces=np.insert(self.conn, starts, self.sizes))
-        for name, values in point_data.items():
-            mesh.point_data[name] = values
-        return mesh
-
-
-def _revolve(rho: np.ndarray, z: np.ndarray, *, n_phi: int, closed: bool = False) -> _Piece:
-    """Points and faces of the surface swept by the meridian curve (rho_i, z_i) about z.
-
-    Curve points with rho == 0 lie on the axis and become a single point (their quads become
-    triangles). With the curve running from the north pole to the south pole, faces point outward.
-    ``closed`` joins the last curve point back to the first.
-    """
-    rho = np.asarray(rho, dtype=np.float64)
-    z = np.asarray(z, dtype=np.float64)
-    n = rho.shape[0]
-    on_axis = rho == 0.0
-    phi = np.linspace(0.0, 2.0 * math.pi, n_phi, endpoint=False)
-
-    per_row = np.where(on_axis, 1, n_phi)
-    start = np.concatenate([[0], np.cumsum(per_row)[:-1]])
-    index = start[:, None] + np.where(on_axis[:, None], 0, np.arange(n_phi)[None, :])
-    x = np.where(on_axis[:, None], 0.0, rho[:, None] * np.cos(phi)[None, :])
-    y = np.where(on_axis[:, None], 0.0, rho[:, None] * np.sin(phi)[None, :])
-    keep = np.ones((n, n_phi), dtype=bool)
-    keep[on_axis, 1:] = False
-    points = np.column_stack([x[keep], y[keep], np.broadcast_to(z[:, None], (n, n_phi))[keep]])
-
-    sizes, conn = [], []
-    nxt = np.roll(np.arange(n_phi), -1)
-    segments = [(i, i + 1) for i in range(n - 1)] + ([(n - 1, 0)] if closed else [])
-    for i, k in segments:
-        a, b, c, d = index[i], index[k], index[k, nxt], index[i, nxt]
-        if on_axis[i] and on_axis[k]:
-            continue
-        if on_axis[i]:
-            cells = np.column_stack([a, b, c])
-        elif on_axis[k]:
-            cells = np.column_stack([a, b, d])
-        else:
-            cells = np.column_stack([a, b, c, d])
-        sizes.append(np.full(n_phi, cells.shape[1]))
-        conn.append(cells.ravel())
-    return _Piece(points, _join(sizes), _join(conn))
-
-
-def _theta(resolution: int) -> np.ndarray:
-    return np.linspace(0.0, math.pi, resolution // 2 + 1)
-
-
-def _check_resolution(resolution: int) -> int:
-    if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 3:
-        raise ValueError(f"resolution must be an integer >= 3, got {resolution!r}")
-    return int(resolution)
 
 
 def _kerr_schild_surface(r: np.ndarray, theta: np.ndarray, a: float, resolution: int) -> pv.PolyData:
@@ -448,210 +367,3 @@ def metric_features(metric: Metric, *, resolution: int = 64) -> dict[str, pv.Pol
         features["throat"] = throat_surface(metric, resolution=resolution)
         features["embedding"] = ellis_embedding(metric, resolution=resolution)
     return features
-
-
-# --------------------------------------------------------------------------------------------------
-# scene shapes
-
-
-def _vector(shape_name: str, key: str, value: Any) -> np.ndarray:
-    vec = np.asarray(value, dtype=np.float64)
-    if vec.shape != (3,) or not np.all(np.isfinite(vec)):
-        raise ValueError(f"{shape_name}: {key} must be 3 finite numbers, got {value!r}")
-    return vec
-
-
-def _frame(axis: np.ndarray, meridian: np.ndarray | None) -> np.ndarray:
-    """Right-handed orthonormal rows (e1, e2, e3): e3 along ``axis``, e1 towards ``meridian``."""
-    e3 = axis / np.linalg.norm(axis)
-    candidates = [] if meridian is None else [meridian]
-    candidates += [np.eye(3)[i] for i in np.argsort(np.abs(e3))]
-    for m in candidates:
-        e1 = m - (m @ e3) * e3
-        if np.linalg.norm(e1) > 1e-9 * max(np.linalg.norm(m), 1.0):
-            e1 = e1 / np.linalg.norm(e1)
-            return np.stack([e1, np.cross(e3, e1), e3])
-    raise AssertionError("unreachable: some axis is perpendicular enough")  # pragma: no cover
-
-
-def _sphere_piece(name: str, shape: Mapping[str, Any], resolution: int) -> _Piece:
-    center = _vector(name, "center", shape["center"])
-    radius = float(shape["radius"])
-    if not radius > 0.0:
-        raise ValueError(f"{name}: radius must be > 0, got {radius!r}")
-    frame = _frame(_vector(name, "pole", shape.get("pole", (0, 0, 1))),
-                   _vector(name, "meridian", shape.get("meridian", (1, 0, 0))))  # fmt: skip
-    theta = _theta(resolution)
-    rho = radius * np.sin(theta)
-    rho[[0, -1]] = 0.0
-    piece = _revolve(rho, radius * np.cos(theta), n_phi=resolution)
-    return _Piece(center + piece.points @ frame, piece.sizes, piece.conn)
-
-
-def _disk_piece(name: str, shape: Mapping[str, Any], resolution: int) -> _Piece:
-    center = _vector(name, "center", shape["center"])
-    r_in, r_out = float(shape.get("inner_radius", 0.0)), float(shape["outer_radius"])
-    if not 0.0 <= r_in < r_out:
-        raise ValueError(f"{name}: need 0 <= inner_radius < outer_radius, got {r_in!r}, {r_out!r}")
-    frame = _frame(_vector(name, "normal", shape["normal"]),
-                   _vector(name, "meridian", shape.get("meridian", (1, 0, 0))))  # fmt: skip
-    rho = np.linspace(r_in, r_out, 5)
-    piece = _revolve(rho, np.zeros_like(rho), n_phi=resolution)
-    return _Piece(center + piece.points @ frame, piece.sizes, piece.conn)
-
-
-def _quad_piece(name: str, shape: Mapping[str, Any], resolution: int) -> _Piece:
-    corner = _vector(name, "corner", shape["corner"])
-    eu, ev = _vector(name, "edge_u", shape["edge_u"]), _vector(name, "edge_v", shape["edge_v"])
-    points = np.stack([corner, corner + eu, corner + eu + ev, corner + ev])  # counter-clockwise about eu x ev
-    return _Piece(points, [4], [0, 1, 2, 3])
-
-
-def _mesh_piece(name: str, shape: Mapping[str, Any], resolution: int) -> _Piece:
-    vertices = np.asarray(shape["vertices"], dtype=np.float64)
-    faces = np.asarray(shape["faces"], dtype=np.int64)
-    if vertices.ndim != 2 or vertices.shape[1] != 3:
-        raise ValueError(f"{name}: vertices must have shape (V, 3), got {vertices.shape}")
-    if faces.ndim != 2 or faces.shape[1] != 3:
-        raise ValueError(f"{name}: faces must have shape (F, 3), got {faces.shape}")
-    if faces.size and (faces.min() < 0 or faces.max() >= vertices.shape[0]):
-        raise ValueError(f"{name}: face indices must be in [0, {vertices.shape[0]})")
-    return _Piece(vertices, np.full(faces.shape[0], 3), faces.ravel())
-
-
-_PIECES = {"sphere": _sphere_piece, "disk": _disk_piece, "quad": _quad_piece, "mesh": _mesh_piece}
-
-
-def scene_surfaces(native_scene: Mapping[str, Any], *, resolution: int = 48) -> pv.PolyData:
-    """The shapes of a native scene dictionary as one mesh, for display.
-
-    Spheres and annular disks are tessellated (``resolution`` points around), quads are one quad,
-    meshes are copied. Faces keep the front side of the renderer: outward on spheres, along
-    ``normal`` on disks, along ``edge_u × edge_v`` on quads, counter-clockwise on meshes.
-
-    Parameters
-    ----------
-    native_scene : dict
-        A scene as described in ``docs/native-scene.md``; only ``shapes`` (and the material
-        ``type`` names of ``materials``) are used.
-    resolution : int, keyword-only
-        Points around spheres and disks.
-
-    Returns
-    -------
-    pyvista.PolyData
-        All shapes, with cell data ``material`` int32 (material index), ``shape`` int32 (index into
-        ``shapes``) and ``sheet`` int8 (+1 / −1); field data ``material_type`` (str, one per material)
-        when the scene lists materials. Empty when there are no shapes.
-
-    Raises
-    ------
-    ValueError
-        An unknown shape type or bad shape geometry, naming the shape.
-
-    Examples
-    --------
-    >>> scene = {"shapes": [
-    ...     {"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0], "material": 1},
-    ...     {"type": "mesh", "vertices": [[0, 0, 1], [1, 0, 1], [0, 1, 1]], "faces": [[0, 1, 2]], "material": 0},
-    ... ]}
-    >>> s = scene_surfaces(scene)
-    >>> s.n_cells, s.cell_data["material"].tolist(), s.cell_data["shape"].tolist()
-    (2, [1, 0], [0, 1])
-    """
-    resolution = _check_resolution(resolution)
-    shapes: Sequence[Mapping[str, Any]] = native_scene.get("shapes", []) or []
-    points, sizes, conn, material, index, sheet = [], [], [], [], [], []
-    offset = 0
-    for i, shape in enumerate(shapes):
-        kind = shape.get("type")
-        name = f"shapes[{i}] ({kind})"
-        if kind not in _PIECES:
-            raise ValueError(f"shapes[{i}]: unknown shape type {kind!r}; known: {', '.join(sorted(_PIECES))}")
-        try:
-            piece = _PIECES[kind](name, shape, resolution)
-        except KeyError as exc:
-            raise ValueError(f"{name}: missing key {exc.args[0]!r}") from None
-        n_faces = piece.sizes.shape[0]
-        points.append(piece.points)
-        sizes.append(piece.sizes)
-        conn.append(piece.conn + offset)
-        material.append(np.full(n_faces, shape.get("material", -1), dtype=np.int32))
-        index.append(np.full(n_faces, i, dtype=np.int32))
-        sheet.append(np.full(n_faces, shape.get("sheet", 1), dtype=np.int8))
-        offset += piece.points.shape[0]
-
-    mesh = _Piece(np.concatenate(points) if points else np.zeros((0, 3)), _join(sizes), _join(conn)).polydata()
-    mesh.cell_data["material"] = np.concatenate(material) if material else np.zeros(0, dtype=np.int32)
-    mesh.cell_data["shape"] = np.concatenate(index) if index else np.zeros(0, dtype=np.int32)
-    mesh.cell_data["sheet"] = np.concatenate(sheet) if sheet else np.zeros(0, dtype=np.int8)
-    materials = native_scene.get("materials") or []
-    if materials:
-        mesh.field_data["material_type"] = [str(m.get("type", "")) for m in materials]
-    return mesh
-
-
-def camera_frustum(camera: Mapping[str, Any], *, length: float | None = None) -> pv.PolyData:
-    """Wire-frame pyramid showing a native scene camera: where it is, where it looks, what it sees.
-
-    The apex is the camera position; the base is the image rectangle at distance ``length`` along
-    the view direction, ``2 length tan(fov / 2)`` high (``fov`` is vertical) with the image's aspect
-    ratio; a small triangle on the top edge marks image-up.
-
-    Parameters
-    ----------
-    camera : dict
-        ``position``, ``look_at``, ``up`` (3-vectors), ``fov`` (degrees, vertical), ``width`` and
-        ``height`` (pixels), optional ``sheet`` (see ``docs/native-scene.md``).
-    length : float, optional, keyword-only
-        Distance from the apex to the base; default the distance to ``look_at``.
-
-    Returns
-    -------
-    pyvista.PolyData
-        Points: apex, the base corners (bottom-left, bottom-right, top-right, top-left as seen by
-        the camera) and the tip of the up marker, float64 (6, 3). Lines: the 4 edges from the apex,
-        the closed base, the up marker. Field data ``fov``, ``width``, ``height``, ``sheet``.
-
-    Examples
-    --------
-    >>> cam = {"position": [0, 0, 0], "look_at": [10, 0, 0], "up": [0, 0, 1], "fov": 90.0, "width": 200, "height": 100}
-    >>> camera_frustum(cam).points[1:5].round(12).tolist()
-    [[10.0, 20.0, -10.0], [10.0, -20.0, -10.0], [10.0, -20.0, 10.0], [10.0, 20.0, 10.0]]
-    """
-    import pyvista as pv
-
-    position = _vector("camera", "position", camera["position"])
-    forward = _vector("camera", "look_at", camera["look_at"]) - position
-    distance = float(np.linalg.norm(forward))
-    if distance == 0.0:
-        raise ValueError("camera: look_at must differ from position")
-    forward /= distance
-    up = _vector("camera", "up", camera["up"])
-    right = np.cross(forward, up)
-    if np.linalg.norm(right) < 1e-12 * max(np.linalg.norm(up), 1e-300):
-        raise ValueError("camera: up must not be parallel to the view direction")
-    right /= np.linalg.norm(right)
-    true_up = np.cross(right, forward)
-    fov, width, height = float(camera["fov"]), int(camera["width"]), int(camera["height"])
-    if not 0.0 < fov < 180.0:
-        raise ValueError(f"camera: fov must be in (0, 180) degrees, got {fov!r}")
-    if width <= 0 or height <= 0:
-        raise ValueError(f"camera: width and height must be positive, got {width} x {height}")
-    length = distance if length is None else float(length)
-    if not (length > 0.0 and math.isfinite(length)):
-        raise ValueError(f"length must be a positive finite distance, got {length!r}")
-
-    half_h = length * math.tan(math.radians(fov) / 2.0)
-    half_w = half_h * width / height
-    centre = position + length * forward
-    corners = [centre + sx * half_w * right + sy * half_h * true_up for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
-    tip = centre + 1.4 * half_h * true_up
-    points = np.stack([position, *corners, tip])
-    lines = [2, 0, 1, 2, 0, 2, 2, 0, 3, 2, 0, 4, 5, 1, 2, 3, 4, 1, 3, 3, 5, 4]
-    frustum = pv.PolyData(points, lines=np.asarray(lines, dtype=np.int64))
-    frustum.field_data["fov"] = np.array([fov])
-    frustum.field_data["width"] = np.array([width])
-    frustum.field_data["height"] = np.array([height])
-    frustum.field_data["sheet"] = np.array([int(camera.get("sheet", 1))])
-    return frustum

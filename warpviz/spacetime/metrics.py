@@ -1,6 +1,6 @@
 """Spacetimes: validated metric parameters with their closed-form landmarks.
 
-Each class mirrors one C++ metric file in ``renderer_ext/spacetime/`` and only carries parameters;
+Each class mirrors one C++ metric file in ``renderer_ext/metrics/`` and only carries parameters;
 the geometry lives in C++. Units are geometric (G = c = 1), lengths in units of the mass M.
 
 Examples

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from warpviz.metrics import Metric
+from warpviz.spacetime import Metric
 
 if TYPE_CHECKING:  # pragma: no cover
     import pyvista as pv

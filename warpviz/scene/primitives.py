@@ -7,7 +7,7 @@ Rotations are given as three angles in degrees about the fixed x, y and z axes, 
 Examples
 --------
 >>> import numpy as np
->>> from warpviz.primitives import rotation_matrix, cylinder_mesh
+>>> from warpviz.scene.primitives import rotation_matrix, cylinder_mesh
 >>> np.round(rotation_matrix([0, 0, 90]) @ [1.0, 0, 0], 12).tolist()
 [0.0, 1.0, 0.0]
 >>> v, f, uv = cylinder_mesh(center=[0, 0, 0], axis=[0, 0, 1], radius=1.0, height=2.0, segments=8)

@@ -6,7 +6,7 @@ downloaded; the procedural pictures depend only on their arguments.
 
 Examples
 --------
->>> from warpviz.textures import swatch, earth_like
+>>> from warpviz.scene.textures import swatch, earth_like
 >>> swatch(cells=(4, 16), cell_px=8).shape
 (128, 32, 3)
 >>> img = earth_like(width=64, height=32, seed=1)

@@ -8,7 +8,7 @@ polydata (cell ``i`` = ray ``i``), the metric, the scene's camera and shapes and
 Examples
 --------
 >>> import warpviz as wv
->>> from warpviz.view_content import view_content
+>>> from warpviz.viewer.view_content import view_content
 >>> rays = wv.trace(wv.Kerr(mass=1.0, spin=0.9), [-30.0, 0, 0], [[1, 0.1, 0]], record=True)
 >>> content = view_content(rays)
 >>> content.image is None, content.rays.n_cells, content.metric
@@ -25,10 +25,10 @@ from typing import Any
 
 import numpy as np
 
-from warpviz.image import Image
-from warpviz.metrics import Metric
-from warpviz.picking import sparse_pixel_grid
-from warpviz.rays import RayBundle
+from warpviz.render import Image
+from warpviz.spacetime import Metric
+from warpviz.tracing import RayBundle
+from warpviz.viewer.picking import sparse_pixel_grid
 
 __all__ = ["ViewContent", "camera_from_frustum", "view_content"]
 
@@ -69,7 +69,7 @@ class ViewContent:
 
 def _metric_of_polydata(poly) -> Metric | None:
     """The metric named in the field data of a ray file, or None."""
-    from warpviz.export import _as_metric
+    from warpviz.export.export import _as_metric
 
     fields = poly.field_data
     if "metric" not in fields:
@@ -110,7 +110,7 @@ def _content_from_image(img: Image) -> ViewContent:
     native = img.native_scene
     metric = img.rays.metric if img.rays is not None else None
     if metric is None and native is not None:
-        from warpviz.export import _as_metric
+        from warpviz.export.export import _as_metric
 
         metric = _as_metric(native["metric"])
     scene = img.metadata.get("scene") if img.metadata else None
@@ -188,7 +188,7 @@ def view_content(obj, *, pixels=None, preview_width: int = 96, spp: int = 4) -> 
     obj : Image, RayBundle, str, os.PathLike, warpviz.scene.Scene or dict
         A render, a recorded bundle, a ``.vtp``/``.vtm`` file, or a scene (file, Scene or native dict),
         which is rendered at ``preview_width`` pixels across, recording the paths of ``pixels`` or of
-        :func:`warpviz.picking.sparse_pixel_grid`.
+        :func:`warpviz.viewer.picking.sparse_pixel_grid`.
     pixels : array_like of int, optional, keyword-only
         (K, 2) pixels to record when ``obj`` is a scene (ignored otherwise).
     preview_width, spp : int, keyword-only

@@ -1,0 +1,175 @@
+"""Compiling what a scene looks like: the skies (``[environment]``, ``[environment_other]``), the
+``[textures.NAME]`` and the ``[materials.NAME]`` tables, into native scene entries.
+
+Textures and materials are referred to by name in the file and by index in the native scene; image
+files are decoded and procedural pictures (:mod:`warpviz.scene.textures`) generated here, so a scene
+that builds renders.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from warpviz.scene import textures
+from warpviz.scene.reader import _describe, _Reader, key_name
+
+
+def _environment(r: _Reader, path: tuple, tbl: Any) -> dict:
+    r.table(path, tbl, ("color", "image", "stars", "spots"))
+    env = {"color": r.color(tbl, path, "color", [0.0, 0.0, 0.0]), "image": None, "stars": None, "spots": []}
+    if "image" in tbl:
+        file = r.file(tbl, path, "image", kind="image", suffixes=textures.IMAGE_SUFFIXES)
+        env["image"] = _load_image(r, path + ("image",), file)
+    if "stars" in tbl:
+        sp = path + ("stars",)
+        stars = tbl["stars"]
+        r.table(sp, stars, ("density", "brightness", "size", "seed"))
+        env["stars"] = {
+            "density": r.real(stars, sp, "density", 2000.0, lo=0.0),
+            "brightness": r.real(stars, sp, "brightness", 20.0, lo=0.0, lo_open=False),
+            "size": r.real(stars, sp, "size", 0.002, lo=0.0, hi=0.1),
+            "seed": r.integer(stars, sp, "seed", 7, lo=0),
+        }
+    spots = tbl.get("spots", [])
+    if not isinstance(spots, list):
+        kp = path + ("spots",)
+        raise r.error(kp, f"{key_name(kp)} must be an array of tables, got {_describe(spots)}")
+    for i, spot in enumerate(spots):
+        sp = path + ("spots", i)
+        r.table(sp, spot, ("direction", "radius", "color"), required=("direction",), what=key_name(sp))
+        d = np.asarray(r.vec3(spot, sp, "direction", nonzero=True))
+        env["spots"].append({
+            "direction": (d / np.linalg.norm(d)).tolist(),
+            "radius": r.real(spot, sp, "radius", 0.01, lo=0.0, hi=math.pi),
+            "color": r.color(spot, sp, "color", [1.0, 1.0, 1.0]),
+        })  # fmt: skip
+    return env
+
+
+def _load_image(r: _Reader, kp: tuple, file: Path, *, srgb: bool | None = None) -> np.ndarray:
+    try:
+        return textures.load_image(file, srgb=srgb)
+    except Exception as exc:  # noqa: BLE001 - any decoder failure is the file's fault
+        raise r.error(kp, f"{key_name(kp)}: cannot read image {file.name!r}: {exc}") from None
+
+
+_TEXTURE_KEYS = {
+    "constant": ("color",),
+    "checker": ("color_a", "color_b", "scale"),
+    "grid": ("base", "line_u", "line_v", "cells", "width"),
+    "image": ("file", "repeat", "srgb"),
+    "swatch": ("cells", "cell_px", "border", "seed", "repeat"),
+    "earth-like": ("resolution", "seed", "ocean", "repeat"),
+}
+
+
+def _textures(r: _Reader, tbl: Any) -> tuple[list, dict]:
+    path = ("textures",)
+    if not isinstance(tbl, dict):
+        raise r.error(path, f"textures must be a table of [textures.NAME] tables, got {_describe(tbl)}")
+    out, index = [], {}
+    for name, t in tbl.items():
+        tp = path + (name,)
+        if not isinstance(t, dict):
+            raise r.error(tp, f"{key_name(tp)} must be a table, got {_describe(t)}")
+        kind = r.choice(t, tp, "type", list(_TEXTURE_KEYS))
+        r.table(tp, t, ("type", *_TEXTURE_KEYS[kind]))
+        index[name] = len(out)
+        out.append(_texture(r, tp, kind, t))
+    return out, index
+
+
+def _texture(r: _Reader, tp: tuple, kind: str, t: dict) -> dict:
+    if kind == "constant":
+        return {"type": "constant", "color": r.color(t, tp, "color")}
+    if kind == "checker":
+        return {
+            "type": "checker", "color_a": r.color(t, tp, "color_a", [0.8, 0.8, 0.8]),
+            "color_b": r.color(t, tp, "color_b", [0.2, 0.2, 0.2]),
+            "scale": r.numbers(t, tp, "scale", 2, [8.0, 8.0], lo=0.0, lo_open=True),
+        }  # fmt: skip
+    if kind == "grid":
+        return {
+            "type": "grid", "base": r.color(t, tp, "base", [1.0, 1.0, 1.0]),
+            "line_u": r.color(t, tp, "line_u", [0.0, 0.0, 0.0]), "line_v": r.color(t, tp, "line_v", [0.0, 0.0, 0.0]),
+            "cells": r.numbers(t, tp, "cells", 2, [10, 10], integer=True, lo=1),
+            "width": r.real(t, tp, "width", 0.05, lo=0.0, hi=1.0),
+        }  # fmt: skip
+    repeat = r.numbers(t, tp, "repeat", 2, [1.0, 1.0], lo=0.0, lo_open=True)
+    if kind == "image":
+        file = r.file(t, tp, "file", kind="image", suffixes=textures.IMAGE_SUFFIXES)
+        srgb = r.boolean(t, tp, "srgb", None) if "srgb" in t else None
+        data = _load_image(r, tp + ("file",), file, srgb=srgb)
+    elif kind == "swatch":
+        data = textures.swatch(
+            cells=tuple(r.numbers(t, tp, "cells", 2, [4, 16], integer=True, lo=1, hi=256)),
+            cell_px=r.integer(t, tp, "cell_px", 16, lo=2, hi=256),
+            border=r.real(t, tp, "border", 0.08, lo=0.0, hi=0.5, lo_open=False),
+            seed=r.integer(t, tp, "seed", 0, lo=0),
+        )  # fmt: skip
+    else:  # earth-like
+        w, h = r.numbers(t, tp, "resolution", 2, [256, 128], integer=True, lo=4, hi=8192)
+        data = textures.earth_like(width=w, height=h, seed=r.integer(t, tp, "seed", 0, lo=0),
+                                   ocean=r.real(t, tp, "ocean", 0.6, lo=0.0, hi=1.0))  # fmt: skip
+    return {"type": "image", "data": np.ascontiguousarray(data, dtype=np.float32), "repeat": repeat}
+
+
+_MATERIAL_KEYS = {
+    "diffuse": ("color", "texture"),
+    "mirror": ("reflectance",),
+    "glass": ("ior", "tint"),
+    "emissive": ("strength", "color", "texture", "two_sided", "keplerian", "beaming", "colour_shift"),
+}
+
+
+def _materials(r: _Reader, tbl: Any, tex_list: list, tex_index: dict) -> tuple[list, dict]:
+    path = ("materials",)
+    if not isinstance(tbl, dict):
+        raise r.error(path, f"materials must be a table of [materials.NAME] tables, got {_describe(tbl)}")
+    out, index = [], {}
+
+    def texture_ref(m: dict, mp: tuple, *, albedo: bool, default_color: list) -> int:
+        if "texture" in m and "color" in m:
+            raise r.error(mp + ("texture",), f"{key_name(mp)}: give either color or texture, not both", at_value=False)
+        if "texture" in m:
+            name = r.string(m, mp, "texture")
+            if name not in tex_index:
+                close = difflib.get_close_matches(name, list(tex_index), n=1, cutoff=0.6)
+                hint = f"; did you mean {close[0]!r}?" if close else ""
+                defined = ", ".join(tex_index) or "none"
+                kp = mp + ("texture",)
+                raise r.error(kp, f"{key_name(kp)}: unknown texture {name!r}{hint} (defined: {defined})")
+            return tex_index[name]
+        tex_list.append({"type": "constant", "color": r.color(m, mp, "color", default_color, albedo=albedo)})
+        return len(tex_list) - 1
+
+    for name, m in tbl.items():
+        mp = path + (name,)
+        if not isinstance(m, dict):
+            raise r.error(mp, f"{key_name(mp)} must be a table, got {_describe(m)}")
+        kind = r.choice(m, mp, "type", list(_MATERIAL_KEYS))
+        r.table(mp, m, ("type", *_MATERIAL_KEYS[kind]))
+        if kind == "diffuse":
+            mat = {"type": "diffuse", "texture": texture_ref(m, mp, albedo=True, default_color=[0.8, 0.8, 0.8])}
+        elif kind == "mirror":
+            mat = {"type": "mirror", "reflectance": r.color(m, mp, "reflectance", [1.0, 1.0, 1.0], albedo=True)}
+        elif kind == "glass":
+            mat = {"type": "glass", "ior": r.real(m, mp, "ior", 1.5, lo=1.0, hi=4.0, lo_open=False),
+                   "tint": r.color(m, mp, "tint", [1.0, 1.0, 1.0], albedo=True)}  # fmt: skip
+        else:
+            mat = {
+                "type": "emissive", "texture": texture_ref(m, mp, albedo=False, default_color=[1.0, 1.0, 1.0]),
+                "strength": r.real(m, mp, "strength", 1.0, lo=0.0, lo_open=False),
+                "two_sided": r.boolean(m, mp, "two_sided", False),
+                "keplerian": r.boolean(m, mp, "keplerian", False),
+                "beaming": r.boolean(m, mp, "beaming", False),
+                "colour_shift": r.boolean(m, mp, "colour_shift", False),
+            }  # fmt: skip
+        index[name] = len(out)
+        out.append(mat)
+    return out, index

@@ -1,0 +1,181 @@
+"""The scene model: :class:`Scene`, a validated scene ready to render, and its native scene dict.
+
+A Scene holds what a scene file describes with every name resolved and every image and mesh loaded;
+:meth:`Scene.native` hands the renderer the plain dictionary of ``docs/native-scene.md`` (a fresh copy
+each call, optionally in flat space or at another size). Scenes are built by
+:func:`~warpviz.scene.loader.load_scene` (a TOML file) or :meth:`Scene.from_dict`.
+
+Examples
+--------
+>>> from warpviz.scene.model import Scene
+>>> scene = Scene.from_dict({"version": 1, "metric": {"name": "schwarzschild", "mass": 1.0},
+...                          "camera": {"position": [0, -20.0, 0]}}, base_dir=".")
+>>> scene.summary()
+'Schwarzschild(mass=1.0), 96x72, 0 shapes (0 emissive)'
+>>> scene.native(width=8, height=6)["camera"]["fov"]
+40.0
+"""
+
+from __future__ import annotations
+
+import copy
+import numbers
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from warpviz.scene.reader import _Reader
+from warpviz.spacetime import Metric
+
+__all__ = ["DEFAULT_SIZE", "RENDER_OPTION_KEYS", "Scene"]
+
+#: [render] keys that are renderer options (docs/native-scene.md), with width/height the image size.
+RENDER_OPTION_KEYS = (
+    "spp", "seed", "max_depth", "rr_depth", "light_sampling", "stepper", "tol", "max_steps",
+    "escape_radius", "max_drift", "chord_tolerance",
+)  # fmt: skip
+
+DEFAULT_SIZE = (96, 72)
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """A validated scene, ready to render.
+
+    Build one with :func:`load_scene` (a TOML file) or :meth:`Scene.from_dict`. All images and meshes
+    are loaded and all names resolved when it is built, so a Scene that exists renders.
+
+    Attributes
+    ----------
+    path : Path or None
+        The scene file (None for a scene built from a dict).
+    description : str
+        What the scene shows.
+    metric : Metric
+        The spacetime.
+    camera : dict
+        ``position``, ``look_at``, ``up``, ``fov``, ``sheet``.
+    outputs : dict
+        ``aovs`` (list of AOV names, or None for all) and ``file`` (default output file, or None).
+    """
+
+    path: Path | None
+    description: str
+    metric: Metric
+    camera: dict
+    outputs: dict
+    _render: dict = field(repr=False)
+    _paper: dict = field(repr=False)
+    _textures: list = field(repr=False)
+    _materials: list = field(repr=False)
+    _shapes: list = field(repr=False)
+    _environment: dict = field(repr=False)
+    _environment_other: dict | None = field(repr=False)
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def from_dict(cls, data: dict, *, base_dir: str | Path) -> Scene:
+        """Validate a parsed scene (the structure of a scene file) and load what it refers to.
+
+        Parameters
+        ----------
+        data : dict
+            As :func:`tomllib.loads` returns for a scene file (tuples may stand for lists).
+        base_dir : str or Path, keyword-only
+            Folder that relative mesh and image paths start from.
+
+        Returns
+        -------
+        Scene
+
+        Raises
+        ------
+        SceneError
+            The first problem found; the message names the key path (there are no line numbers).
+        """
+        from warpviz.scene.loader import _build  # the loader builds Scenes: imported when first needed
+
+        return _build(_Reader(label=None, positions=None, base_dir=Path(base_dir)), data, path=None)
+
+    # ------------------------------------------------------------------ queries
+    def size(self, *, paper: bool = False) -> tuple[int, int]:
+        """Image (width, height) in pixels, from [render] or, with ``paper``, [render.paper]."""
+        w, h = self._render.get("width", DEFAULT_SIZE[0]), self._render.get("height", DEFAULT_SIZE[1])
+        if paper:
+            w, h = self._paper.get("width", w), self._paper.get("height", h)
+        return w, h
+
+    def render_settings(self, *, paper: bool = False) -> dict:
+        """The renderer options (keys of docs/native-scene.md's ``options``) that the scene sets.
+
+        Parameters
+        ----------
+        paper : bool, keyword-only
+            Apply the ``[render.paper]`` overrides.
+        """
+        settings = {k: v for k, v in self._render.items() if k in RENDER_OPTION_KEYS}
+        if paper:
+            settings.update({k: v for k, v in self._paper.items() if k in RENDER_OPTION_KEYS})
+        return settings
+
+    def native(self, *, flat: bool = False, width: int | None = None, height: int | None = None,
+               paper: bool = False) -> dict:  # fmt: skip
+        """The native scene dict of docs/native-scene.md (a fresh copy each call).
+
+        Parameters
+        ----------
+        flat : bool, keyword-only
+            Replace the metric by flat space (``{"name": "minkowski", "params": []}``) to compare with
+            the curved picture. For a wormhole only the camera's own sheet is kept (as flat space),
+            with that sheet's sky.
+        width, height : int, optional, keyword-only
+            Image size, overriding the scene's.
+        paper : bool, keyword-only
+            Use the ``[render.paper]`` image size.
+
+        Returns
+        -------
+        dict
+            ``metric``, ``camera``, ``textures``, ``materials``, ``shapes``, ``environment`` and, for a
+            wormhole with a sky of its own on the other side, ``environment_other``.
+        """
+        w, h = self.size(paper=paper)
+        for name, value in (("width", width), ("height", height)):
+            if value is not None and (isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1):
+                raise ValueError(f"{name} must be a positive integer, got {value!r}")
+        w, h = int(width or w), int(height or h)
+        camera = dict(copy.deepcopy(self.camera), width=w, height=h)
+        shapes = copy.deepcopy(self._shapes)
+        environment = copy.deepcopy(self._environment)
+        other = copy.deepcopy(self._environment_other)
+        if flat:
+            metric = {"name": "minkowski", "params": []}
+            sheet = camera["sheet"]
+            shapes = [dict(s, sheet=1) for s in shapes if s["sheet"] == sheet]
+            if sheet == -1 and other is not None:
+                environment = other
+            other = None
+            camera["sheet"] = 1
+        else:
+            metric = {"name": self.metric.name, "params": list(self.metric.param_values)}
+        out = {
+            "metric": metric,
+            "camera": camera,
+            "textures": copy.deepcopy(self._textures),
+            "materials": copy.deepcopy(self._materials),
+            "shapes": shapes,
+            "environment": environment,
+        }
+        if other is not None:
+            out["environment_other"] = other
+        return out
+
+    def summary(self) -> str:
+        """One line: metric, image size, shapes and lights."""
+        w, h = self.size()
+        emissive = {i for i, m in enumerate(self._materials) if m["type"] == "emissive"}
+        lights = sum(1 for s in self._shapes if s["material"] in emissive)
+        return f"{self.metric!r}, {w}x{h}, {len(self._shapes)} shapes ({lights} emissive)"
+
+    def __repr__(self) -> str:
+        where = self.path.name if self.path is not None else "<dict>"
+        return f"Scene({where!r}, {self.metric!r})"

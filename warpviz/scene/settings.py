@@ -1,0 +1,136 @@
+"""Compiling the settings tables of a scene: ``[metric]``, ``[camera]``, ``[render]`` and ``[outputs]``.
+
+Each function validates one table with a :class:`~warpviz.scene.reader._Reader` and returns its native
+form: the :class:`~warpviz.Metric` (parameters in the ranges of the core's registry), the native camera
+dict (checked to start outside every horizon), the renderer options of ``[render]`` and
+``[render.paper]``, and the outputs (AOV names, default file).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from warpviz._native import core, registered_metrics
+from warpviz.scene.reader import _describe, _Reader, key_name
+from warpviz.spacetime import Metric, metric_from_dict
+from warpviz.tracing import STEPPERS
+
+__all__ = ["AOV_NAMES"]
+
+AOV_NAMES = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "errors", "samples")
+
+
+def _metric(r: _Reader, tbl: Any) -> Metric:
+    path = ("metric",)
+    registry = {m["name"]: m for m in registered_metrics()}
+    r.table(path, tbl, [*tbl], required=("name",))  # a table with a name; its keys are checked below
+    name = r.choice(tbl, path, "name", list(registry))
+    specs = {s["name"]: s for s in registry[name]["param_specs"]}
+    r.table(path, tbl, ["name", *specs], what=f"[metric] ({name})")
+    params = {}
+    for key in tbl:
+        if key == "name":
+            continue
+        s = specs[key]  # ranges from the core's registry
+        lo = None if math.isinf(s["lo"]) else s["lo"]
+        hi = None if math.isinf(s["hi"]) else s["hi"]
+        params[key] = r.real(tbl, path, key, lo=lo, hi=hi, lo_open=s["lo_open"], hi_open=s["hi_open"])
+    try:
+        return metric_from_dict({"name": name, **params})
+    except (TypeError, ValueError) as exc:  # a relation between parameters (|Q| < M), checked by the core
+        raise r.error(path, f"metric: {str(exc).split(': ', 1)[-1]}", at_value=False) from None
+
+
+def _camera(r: _Reader, tbl: Any, metric: Metric) -> dict:
+    path = ("camera",)
+    r.table(path, tbl, ("position", "look_at", "up", "fov", "sheet"), required=("position",))
+    cam = {
+        "position": r.vec3(tbl, path, "position"),
+        "look_at": r.vec3(tbl, path, "look_at", [0.0, 0.0, 0.0]),
+        "up": r.vec3(tbl, path, "up", [0.0, 0.0, 1.0], nonzero=True),
+        "fov": r.real(tbl, path, "fov", 40.0, lo=0.0, hi=180.0),
+        "sheet": _sheet(r, tbl, path, ellis=metric.sheets == 2),
+    }
+    forward = np.subtract(cam["look_at"], cam["position"])
+    if not np.linalg.norm(forward) > 0:
+        raise r.error(path + ("look_at",), "camera.look_at must differ from camera.position")
+    up = np.asarray(cam["up"]) / np.linalg.norm(cam["up"])
+    if np.linalg.norm(np.cross(forward / np.linalg.norm(forward), up)) < 1e-6:
+        raise r.error(path + ("up",), "camera.up must not be parallel to the viewing direction (look_at - position)")
+    problem = core.origin_problems(metric.name, metric.param_values, np.array([cam["position"]], dtype=np.float64),
+                                   np.array([cam["sheet"]], dtype=np.int32))  # fmt: skip
+    if problem is not None:
+        raise r.error(path + ("position",), f"camera.position {cam['position']} {problem[1]}")
+    return cam
+
+
+def _sheet(r: _Reader, tbl: dict, path: tuple, *, ellis: bool) -> int:
+    sheet = r.integer(tbl, path, "sheet", 1)
+    if sheet not in (1, -1):
+        raise r.error(path + ("sheet",), f"{key_name(path + ('sheet',))} must be 1 or -1, got {sheet}")
+    if sheet == -1 and not ellis:
+        kp = path + ("sheet",)
+        why = "needs a wormhole (metric.name = 'ellis'); other spacetimes have one sheet"
+        raise r.error(kp, f"{key_name(kp)} = -1 {why}")
+    return sheet
+
+
+_RENDER_CHECKS = {
+    "width": ("integer", 1, 16384), "height": ("integer", 1, 16384), "spp": ("integer", 1, None),
+    "seed": ("integer", 0, 2**63 - 1), "max_depth": ("integer", 1, 10000), "rr_depth": ("integer", 0, None),
+    "light_sampling": ("boolean",), "stepper": ("choice", STEPPERS), "tol": ("real", 0.0, 1.0),
+    "max_steps": ("integer", 1, None), "escape_radius": ("real", 0.0, None), "max_drift": ("real", 0.0, None),
+    "chord_tolerance": ("real", 0.0, None),
+}  # fmt: skip
+
+
+def _render_table(r: _Reader, path: tuple, tbl: Any, *, allow_paper: bool) -> dict:
+    allowed = list(_RENDER_CHECKS) + (["paper"] if allow_paper else [])
+    r.table(path, tbl, allowed)
+    out = {}
+    for key in tbl:
+        if key == "paper":
+            continue
+        kind, *args = _RENDER_CHECKS[key]
+        if kind == "integer":
+            out[key] = r.integer(tbl, path, key, lo=args[0], hi=args[1])
+        elif kind == "real":
+            out[key] = r.real(tbl, path, key, lo=args[0], hi=args[1])
+        elif kind == "boolean":
+            out[key] = r.boolean(tbl, path, key)
+        else:
+            out[key] = r.choice(tbl, path, key, args[0])
+    return out
+
+
+def _render(r: _Reader, tbl: Any) -> tuple[dict, dict]:
+    render = _render_table(r, ("render",), tbl, allow_paper=True)
+    paper = _render_table(r, ("render", "paper"), tbl.get("paper", {}), allow_paper=False)
+    return render, paper
+
+
+def _outputs(r: _Reader, tbl: Any) -> dict:
+    path = ("outputs",)
+    r.table(path, tbl, ("aovs", "file"))
+    aovs = None
+    if "aovs" in tbl:
+        aovs = tbl["aovs"]
+        if not isinstance(aovs, list) or not all(isinstance(a, str) for a in aovs):
+            raise r.error(path + ("aovs",), f"outputs.aovs must be a list of names, got {_describe(aovs)}")
+        for i, a in enumerate(aovs):
+            if a not in AOV_NAMES:
+                close = difflib.get_close_matches(a, AOV_NAMES, n=1, cutoff=0.6)
+                hint = f"; did you mean {close[0]!r}?" if close else ""
+                known = ", ".join(AOV_NAMES)
+                raise r.error(path + ("aovs", i), f"outputs.aovs[{i}]: unknown AOV {a!r}{hint} (known: {known})")
+    file = None
+    if "file" in tbl:
+        file = r.string(tbl, path, "file")
+        if Path(file).suffix.lower() not in (".png", ".exr"):
+            raise r.error(path + ("file",), f"outputs.file must end in .png or .exr, got {file!r}")
+    return {"aovs": aovs, "file": file}
