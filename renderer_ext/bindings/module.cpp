@@ -1,5 +1,5 @@
 // Thin Python bindings: arrays in, arrays out. Validation with user-facing messages and every default live
-// in Python (warpviz/trace.py, warpviz/render.py); this layer converts and checks only what would otherwise
+// in Python (warpviz/tracing/trace.py, warpviz/render/render.py); this layer converts and checks only what would otherwise
 // be undefined behaviour (array shapes). Test hooks are in testing.cpp, bound as _core._testing.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
@@ -107,7 +107,7 @@ nb::dict trace(const std::string& metric, const std::vector<double>& params, F64
 }
 
 
-// A render option; warpviz/render.py resolves every default and validates every value, so each is present.
+// A render option; warpviz/render/render.py resolves every default and validates every value, so each is present.
 template <class T>
 T option(const nb::dict& o, const char* key) {
   T v;

@@ -1,6 +1,6 @@
 // The camera of a render: its viewing frame as measured by the observer at the camera (forward, right and
 // up in that observer's local frame), the start frame all camera rays share, and the jittered direction of
-// a pixel's camera ray (the same pinhole as warpviz/pinhole.py in flat space).
+// a pixel's camera ray (the same pinhole as warpviz/scene/camera.py in flat space).
 #pragma once
 
 #include <cmath>
