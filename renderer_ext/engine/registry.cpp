@@ -24,12 +24,13 @@ const char* stepper_name(StepperKind s) {
   }
 }
 
-const StepperEntry& find_stepper(const std::string& name, const std::vector<double>& params, StepperKind s) {
+const StepperEntry& find_stepper(const std::string& name, const std::vector<double>& params, StepperKind s,
+                                 bool render) {
   const MetricEntry& e = find_metric(name);
   const std::string why = params_problem(e, params);
   if (!why.empty()) throw std::invalid_argument(why);
   for (const auto& st : stepper_table())
-    if (st.metric == name && st.stepper == s) return st;
+    if (st.metric == name && st.stepper == s && (render ? st.render != nullptr : st.trace != nullptr)) return st;
   throw std::invalid_argument("metric '" + name + "' was built without the " + stepper_name(s) + " stepper");
 }
 
@@ -70,12 +71,12 @@ std::unique_ptr<Spacetime> make_spacetime(const std::string& name, const std::ve
 }
 
 TraceResult trace_rays(const std::string& name, const std::vector<double>& params, const TraceRequest& req) {
-  return find_stepper(name, params, req.stepper).trace(params, req);
+  return find_stepper(name, params, req.stepper, false).trace(params, req);
 }
 
 RenderResult render_scene(const std::string& name, const std::vector<double>& params, const Scene& scene,
                           const RenderOptions& options, StepperKind stepper) {
-  return find_stepper(name, params, stepper).render(params, scene, options);
+  return find_stepper(name, params, stepper, true).render(params, scene, options);
 }
 
 }  // namespace wv

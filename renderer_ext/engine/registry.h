@@ -4,8 +4,8 @@
 //
 // Each metric file registers itself with one line, WARPVIZ_REGISTER_METRIC (engine/register.h), so a new
 // metric is one file plus one CMake line (warpviz_add_metric), Mitsuba-style. A metric file is compiled
-// once per stepper (CMakeLists.txt): each compilation registers that stepper's tracer and renderer, the
-// dopri5 one also the metric's facts; lookups merge them.
+// in two halves (CMakeLists.txt, engine/register.h), each registering its part of the tracers and
+// renderers, one also the metric's facts; lookups merge them.
 #pragma once
 
 #include <functional>
@@ -36,7 +36,7 @@ struct MetricEntry {
   std::function<std::unique_ptr<Spacetime>(const std::vector<double>&)> make;
 };
 
-// A metric's tracer and renderer for one stepper, from (already validated) parameters.
+// A metric's tracer or renderer (the other null) for one stepper, from (already validated) parameters.
 struct StepperEntry {
   std::string metric;
   StepperKind stepper;
