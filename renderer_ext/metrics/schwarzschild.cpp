@@ -85,23 +85,10 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
   double length_scale() const { return M; }
 
   void conserved(const double y[8], const HamiltonianParts& /*hp*/, double out[], double mag[]) const {
-    double l[3];
-    angular_momentum(y, l);
-    out[1] = -y[4];
-    out[2] = l[2];
-    out[3] = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
-    if (mag) {
-      const double xp = std::sqrt((y[1] * y[1] + y[2] * y[2] + y[3] * y[3]) * (y[5] * y[5] + y[6] * y[6] + y[7] * y[7]));
-      mag[1] = std::fabs(y[4]);
-      mag[2] = std::fabs(y[1] * y[6]) + std::fabs(y[2] * y[5]);
-      mag[3] = xp * xp;
-    }
+    spherical_conserved(y, out, mag);
   }
   void invariant_scales(const double y[8], const double inv[], double scale[]) const {
-    scale[0] = 1.0;
-    scale[1] = energy_scale(y, inv[1]);
-    scale[2] = std::max(std::fabs(inv[2]), M * scale[1]);
-    scale[3] = std::max(inv[3], M * M * scale[1] * scale[1]);
+    spherical_scales(y, inv, M, scale);
   }
 };
 

@@ -40,6 +40,7 @@
 // is constant.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -117,6 +118,30 @@ inline void angular_momentum(const double y[8], double l[3]) {
 inline double energy_scale(const double y[8], double energy) {
   const double pmag = std::sqrt(y[4] * y[4] + y[5] * y[5] + y[6] * y[6] + y[7] * y[7]);
   return std::fmax(std::fabs(energy), 1e-3 * pmag);
+}
+
+// The conserved quantities of a spherically symmetric metric in a Cartesian chart, invariants {H, E, Lz, L2}:
+// E = -p_t, Lz and L^2 = |x cross p|^2 into out[1..3] (and their rounding scales into mag, if not null).
+inline void spherical_conserved(const double y[8], double out[], double mag[]) {
+  double l[3];
+  angular_momentum(y, l);
+  out[1] = -y[4];
+  out[2] = l[2];
+  out[3] = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+  if (mag) {
+    const double xp = std::sqrt((y[1] * y[1] + y[2] * y[2] + y[3] * y[3]) * (y[5] * y[5] + y[6] * y[6] + y[7] * y[7]));
+    mag[1] = std::fabs(y[4]);
+    mag[2] = std::fabs(y[1] * y[6]) + std::fabs(y[2] * y[5]);
+    mag[3] = xp * xp;
+  }
+}
+
+// Normalisation of their relative drifts for a mass scale M.
+inline void spherical_scales(const double y[8], const double inv[], double M, double scale[]) {
+  scale[0] = 1.0;
+  scale[1] = energy_scale(y, inv[1]);
+  scale[2] = std::max(std::fabs(inv[2]), M * scale[1]);
+  scale[3] = std::max(inv[3], M * M * scale[1] * scale[1]);
 }
 
 template <class Derived>
