@@ -14,6 +14,7 @@ Examples
 
 from __future__ import annotations
 
+import copy
 import inspect
 import math
 import numbers
@@ -62,11 +63,14 @@ def _check_param(cls: str, spec: dict, value: Any) -> float:
     return value
 
 
+#: The core's registry, read once: it is fixed when the extension is built.
+_REGISTRY: dict[str, dict] = {e["name"]: e for e in registered_metrics()}
+
+
 def _entry(name: str) -> dict:
-    for entry in registered_metrics():
-        if entry["name"] == name:
-            return entry
-    raise RuntimeError(f"metric {name!r} is not compiled into the core")  # pragma: no cover
+    if name not in _REGISTRY:
+        raise RuntimeError(f"metric {name!r} is not compiled into the core")  # pragma: no cover
+    return _REGISTRY[name]
 
 
 class PerformanceWarning(UserWarning):
@@ -126,7 +130,7 @@ class Metric:
             raise ValueError(f"{cls}: {problem.split(': ', 1)[-1]}")
         for k, v in values.items():
             object.__setattr__(self, k, v)
-        entry = self.registry_entry
+        entry = _entry(self.name)
         if not entry["lane_rhs"] and not entry["flat"] and self.name not in _WARNED_SLOW:
             _WARNED_SLOW.add(self.name)
             warnings.warn(f"metric {self.name!r} has no hand-written right-hand side: its geodesics are "
@@ -153,13 +157,13 @@ class Metric:
     @property
     def registry_entry(self) -> dict:
         """The core's facts about this metric (name, class name, summary, parameter specs, invariants,
-        sheets, flatness, whether a hand-written right-hand side runs in SIMD lanes)."""
-        return _entry(self.name)
+        sheets, flatness, whether a hand-written right-hand side runs in SIMD lanes); a copy."""
+        return copy.deepcopy(_entry(self.name))
 
     @property
     def invariant_names(self) -> list[str]:
         """Conserved quantities monitored along rays; the first is always ``"H"``."""
-        return list(self.registry_entry["invariants"])
+        return list(_entry(self.name)["invariants"])
 
     @property
     def landmarks(self) -> dict[str, float]:
@@ -184,12 +188,12 @@ class Metric:
 
     @property
     def is_flat(self) -> bool:
-        return bool(self.registry_entry["flat"])
+        return bool(_entry(self.name)["flat"])
 
     @property
     def sheets(self) -> int:
         """Sheets the user sees as separate Cartesian frames (2 for a wormhole)."""
-        return int(self.registry_entry["sheets"])
+        return int(_entry(self.name)["sheets"])
 
     def to_dict(self) -> dict[str, Any]:
         """``{"name": ..., **params}``, the form scene files and VTK field data use."""
@@ -300,7 +304,7 @@ _HAND_WRITTEN = (Minkowski, Schwarzschild, Kerr, EllisWormhole)
 
 #: Every metric compiled into the core, by registry name, in registration order.
 _CLASSES: dict[str, type[Metric]] = {}
-for _e in registered_metrics():
+for _e in _REGISTRY.values():
     _CLASSES[_e["name"]] = next((c for c in _HAND_WRITTEN if c.name == _e["name"]), None) or _generated_class(_e)
 del _e
 

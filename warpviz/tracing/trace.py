@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from warpviz._native import core
-from warpviz.spacetime import METRIC_CLASSES, Metric, metric_from_dict
+from warpviz._native import core, registered_metrics
+from warpviz.spacetime import Metric, metric_from_dict
 from warpviz.tracing.rays import RayBundle, recorded_point_data
 
 STEPPERS = ("rk4", "dopri5", "dop853")
@@ -171,7 +171,7 @@ def trace(
         if bad.size:
             raise ValueError(f"sheets[{bad[0]}] must be +1 or -1, got {sheets_arr[bad[0]]!r}")
         if metric.sheets < 2 and np.any(sheets_arr == -1):
-            many = [c.__name__ for c in METRIC_CLASSES.values() if c(**{}).sheets > 1]
+            many = [e["class_name"] for e in registered_metrics() if e["sheets"] > 1]
             raise ValueError(f"sheets: {type(metric).__name__} has a single sheet; only {' and '.join(many)} "
                              f"{'has' if len(many) == 1 else 'have'} sheet -1")  # fmt: skip
         sheets_arr = np.ascontiguousarray(sheets_arr, dtype=np.int32)
