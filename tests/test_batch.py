@@ -123,7 +123,7 @@ def test_render_in_lanes_equals_render_one_geodesic_at_a_time(spec):
 
 def test_render_in_lanes_with_brute_force_and_without_aiming():
     scene = room(native_metric("schwarzschild", 2.5), size=(10, 8))
-    for kw in ({"light_sampling": False}, {"aim_lights": False}):
+    for kw in ({"light_sampling": False}, {"aim_lights": False, "light_connection": "aimed"}):
         assert_images_identical(wv.render(scene, spp=2, **kw), wv.render(scene, spp=2, batch=False, **kw))
 
 

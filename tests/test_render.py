@@ -294,15 +294,15 @@ def test_aimed_light_samples_reach_the_light_more_often_and_stay_unbiased():
     def reach(aim):
         # without the light margin, which trades reach for covering the lensed image
         rays = wv.render(scene, spp=4, max_depth=2, aim_lights=aim, light_margin=False,
-                         record_pixels=pixels).rays
+                         light_connection="aimed", record_pixels=pixels).rays
         light = rays.ray_data["kind"] == 2
         end = rays.final_positions[light]
         return np.mean((np.abs(end[:, 2] - 11.99) < 1e-6) & (np.abs(end[:, :2]) <= 3.0).all(axis=1))
 
     plain_reach, aimed_reach = reach(False), reach(True)  # measured: 0.37 and 0.72
     assert aimed_reach > plain_reach + 0.2
-    aimed = _image_means(scene, range(6), spp=8, aim_lights=True, max_depth=3)
-    plain = _image_means(scene, range(6), spp=8, aim_lights=False, max_depth=3)
+    aimed = _image_means(scene, range(6), spp=8, aim_lights=True, max_depth=3, light_connection="aimed")
+    plain = _image_means(scene, range(6), spp=8, aim_lights=False, max_depth=3, light_connection="aimed")
     assert_same_mean(aimed, plain, slack=1e-3 * plain.mean())
 
 
@@ -312,7 +312,8 @@ def test_light_margin_lowers_the_noise_of_a_lensed_room_and_stays_unbiased():
     scene = room(metric("schwarzschild", 0.4), size=(12, 9), light=3.0, spheres=False)
 
     def frames(margin):
-        return np.stack([wv.render(scene, spp=8, seed=s, max_depth=3, light_margin=margin).rgb for s in range(8)])
+        return np.stack([wv.render(scene, spp=8, seed=s, max_depth=3, light_margin=margin,
+                                   light_connection="aimed").rgb for s in range(8)])
 
     with_margin, without = frames(True).astype(np.float64), frames(False).astype(np.float64)
     assert with_margin.var(axis=0).mean() < 0.9 * without.var(axis=0).mean()
@@ -353,8 +354,10 @@ def test_steppers_render_the_same_room_at_tight_tolerance(stepper):
     the same), so at tol 1e-10 every stepper renders dopri5's curved room to ~1e-5: paths, pilots and light
     samples included (a pilot ending on dop853's cubic Hermite dense output once made this 0.5)."""
     scene = room(metric("schwarzschild", 2.5), size=(16, 12), half=50.0)  # fig07's proportions: long steps
-    ref = wv.render(scene, spp=2, seed=3, tol=1e-10, pilot_tol=1e-10, stepper="dopri5").rgb.astype(np.float64)
-    img = wv.render(scene, spp=2, seed=3, tol=1e-10, pilot_tol=1e-10, stepper=stepper).rgb.astype(np.float64)
+    ref = wv.render(scene, spp=2, seed=3, tol=1e-10, pilot_tol=1e-10, stepper="dopri5",
+                    light_connection="aimed").rgb.astype(np.float64)
+    img = wv.render(scene, spp=2, seed=3, tol=1e-10, pilot_tol=1e-10, stepper=stepper,
+                    light_connection="aimed").rgb.astype(np.float64)
     rel = np.abs(img - ref) / max(ref.mean(), 1e-12)
     assert np.quantile(rel, 0.95) < 1e-4
     assert rel.mean() < 1e-3  # a rare path may take the other branch at an edge

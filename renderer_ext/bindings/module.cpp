@@ -142,6 +142,12 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.aim_lights = option<bool>(options, "aim_lights");
   o.light_margin = option<bool>(options, "light_margin");
   o.pilot_tol = option<double>(options, "pilot_tol");
+  {
+    const std::string lc = option<std::string>(options, "light_connection");
+    if (lc != "lens" && lc != "aimed") throw std::invalid_argument("light_connection must be 'lens' or 'aimed', got '" + lc + "'");
+    o.light_connection = lc == "lens" ? wv::kLensConnection : wv::kAimedConnection;
+  }
+  o.lens_images = option<int>(options, "lens_images");
   o.batch = option<bool>(options, "batch");
   o.threads = option<int>(options, "threads");
   const auto stepper = stepper_kind(option<std::string>(options, "stepper"));

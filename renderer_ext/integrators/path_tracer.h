@@ -34,6 +34,7 @@
 #include "integrators/camera.h"
 #include "integrators/chart_geometry.h"
 #include "integrators/emission.h"
+#include "integrators/lens_connection.h"
 #include "integrators/light_connection.h"
 #include "integrators/render_loop.h"
 #include "integrators/render_types.h"
@@ -54,7 +55,7 @@ class PathTracer {
 
   PathTracer(const M& m, const Scene& sc, const RenderOptions& o)
       : sc_(sc), o_(o), camera_(m, sc.camera), segments_(m, sc, o), lights_(m, sc, o, segments_.options()),
-        emission_(m, sc) {}
+        emission_(m, sc), lens_(m, sc, o.lens_images) {}
 
   // One sample of pixel (px, py): a light path traced back from the camera. Writes the first-hit AOVs to
   // the film (sample 0) and what it adds to the pixel to `out`.
@@ -74,6 +75,12 @@ class PathTracer {
     int sheet = cam.sheet, skip = -1;
     V3 L{0, 0, 0}, beta{1, 1, 1};
     double mis = 1.0;  // weight of emission found by the next segment (BSDF strategy)
+    // The lens connection's pdf of a BSDF-sampled direction depends on where it first hits a light, so at
+    // a lens vertex the weight is settled after the next segment.
+    bool lens_prev = false;
+    LensVertex lens_v;
+    V3 lens_w;
+    double lens_pb = 0.0;
     bool error = false;
     double max_drift = 0.0;
     int64_t steps = 0;
@@ -115,6 +122,10 @@ class PathTracer {
         }
       }
       const V3 Le = emission_.emission(e);
+      if (lens_prev) {
+        const double pl = e.status == kHit && lens_.is_light(e.prim) ? lens_.pdf(lens_v, lens_w, e.prim, e.pos) : 0.0;
+        mis = lens_pb / (lens_pb + pl);
+      }
       L += beta * Le * mis;
       if (e.status != kHit) break;
       const Material& mat = sc_.materials[sc_.prims[e.prim].material];
@@ -123,7 +134,32 @@ class PathTracer {
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
       const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
       Aim aimed;
-      if (nee) {
+      const bool lens = nee && o_.light_connection == kLensConnection && lens_.applies(e);
+      if (lens) {
+        // Light strategy: a point on one light by area and one of its lensed images (lens_connection.h).
+        lens_v = lens_.vertex(e);
+        // The light's index and, from what is left of the same uniform number, the image's: as many random
+        // numbers as the aimed connection draws, so a vanishing mass reproduces its (flat) paths.
+        const double ul = rng.uniform() * double(sc_.lights.size());
+        const int li = std::min(int(sc_.lights.size()) - 1, int(ul));
+        const double u3 = std::min(ul - double(li), 1.0 - 1e-16);
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        V3 wl, target;
+        double pl;
+        if (lens_.sample(lens_v, li, u1, u2, u3, wl, pl, target)) {
+          double pb;
+          const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
+          if (max_component(f) > 0.0) {
+            Track* light_track = open();
+            SegmentEnd le;
+            co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames,
+                                       sched, le);
+            close(le, e.sheet, bounce + 1, kLightSegment);
+            if (LensConnection<M>::light_sample_hits(le, sc_.lights[li], target))
+              L += beta * f * emission_.emission(le) / (pl + pb);
+          }
+        }
+      } else if (nee) {
         // Light strategy: a direction from the (pilot-aimed) flat-space proxy of one light, traced as a
         // geodesic.
         co_await lights_.aim(e, sp.normal, wo, st, frames, sched, aimed);
@@ -153,7 +189,11 @@ class PathTracer {
       if (!bs.valid) break;
       beta *= bs.weight;
       mis = 1.0;
-      if (nee) {
+      lens_prev = lens;
+      if (lens) {
+        lens_w = bs.wi;
+        lens_pb = bs.pdf;
+      } else if (nee) {
         const double pl = lights_.lights_pdf(aimed, e.sheet, e.to_local, bs.wi);
         mis = bs.pdf / (bs.pdf + pl);
       }
@@ -187,6 +227,7 @@ class PathTracer {
   SegmentTracer<M, S> segments_;
   LightConnection<M, S> lights_;  // after segments_, whose trace options its pilots start from
   Emission<M> emission_;
+  LensConnection<M> lens_;
 };
 
 // Renders scene sc through metric M with stepper S (engine/register.h).

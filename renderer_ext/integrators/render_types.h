@@ -11,6 +11,11 @@
 
 namespace wv {
 
+// How the light strategy finds lights in curved space: flat-space proxies aimed by pilot geodesics
+// (light_connection.h), or, where the metric is static and spherical, its exact lens map
+// (lens_connection.h; elsewhere the aimed proxies).
+enum LightConnectionKind : int { kAimedConnection = 0, kLensConnection = 1 };
+
 struct RenderOptions {
   int spp = 16;
   uint64_t seed = 0;
@@ -21,6 +26,8 @@ struct RenderOptions {
   double chord_tol = 1e-3;
   bool aim_lights = true;  // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
   bool light_margin = true;  // ... and enlarge quad and disk proxies by that shift (lensed images are larger)
+  int light_connection = kLensConnection;
+  int lens_images = 2;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
   bool batch = true;       // curved space: step the geodesics of many samples together in SIMD lanes
   // Local error tolerance of pilot geodesics (at least trace.tol). A pilot only decides where a light's
   // proxy is seen from, never what a sample is worth, so its accuracy cannot bias the image.

@@ -93,6 +93,17 @@ struct EllisWormhole : MetricBase<EllisWormhole> {
   }
   double length_scale() const { return b0; }
 
+  // Static and spherical in the areal radius R = sqrt(b0^2 + l^2): A = 1, h = 1 - b0^2 u^2 (dl^2 =
+  // dR^2 / h); rays below impact parameter b0 pass through the throat to the other sheet.
+  static constexpr bool kStaticSpherical = true;
+  SphericalLens spherical_lens() const {
+    SphericalLens s;
+    s.h[2] = -b02;
+    s.u_inner = 1.0 / b0;
+    s.throat = true;
+    return s;
+  }
+
   bool normalize_chart(double* y, int& sheet) const {
     const double rho2 = y[1] * y[1] + y[2] * y[2] + y[3] * y[3];
     if (rho2 >= b02) return false;

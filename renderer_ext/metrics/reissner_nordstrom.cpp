@@ -99,6 +99,17 @@ struct ReissnerNordstrom : MetricBase<ReissnerNordstrom> {
   }
   double length_scale() const { return M; }
 
+  // Static and spherical: A = 1 - 2M u + Q^2 u^2, h = 1; rays inside the photon sphere's impact parameter
+  // fall in.
+  static constexpr bool kStaticSpherical = true;
+  SphericalLens spherical_lens() const {
+    SphericalLens s;
+    s.a[1] = -2.0 * M;
+    s.a[2] = Q2;
+    s.u_inner = 1.0 / photon_sphere_radius();
+    return s;
+  }
+
   void conserved(const double y[8], const HamiltonianParts& /*hp*/, double out[], double mag[]) const {
     spherical_conserved(y, out, mag);
   }

@@ -140,6 +140,60 @@ inline bool sample_light(const Scene& sc, int p, V3 x, const LinearMap& L, doubl
   return pdf > 0.0 && std::isfinite(pdf);
 }
 
+// A point on light prim p drawn uniformly by area (user frame), with the light's unit normal there and the
+// light's whole area: what the lens-aware connection (integrators/lens_connection.h) starts from.
+struct LightPoint {
+  V3 pos, normal;
+  double area = 0.0;
+};
+inline bool sample_light_point(const Scene& sc, int p, double u1, double u2, LightPoint& lp) {
+  const Prim& pr = sc.prims[p];
+  if (pr.kind == PrimKind::kQuad) {
+    const Quad& q = sc.quads[pr.index];
+    lp.pos = q.corner + q.eu * u1 + q.ev * u2;
+    lp.normal = q.normal;
+    lp.area = length(cross(q.eu, q.ev));
+  } else if (pr.kind == PrimKind::kDisk) {
+    const Disk& k = sc.disks[pr.index];
+    const double rho = std::sqrt(k.r_in * k.r_in + u1 * (k.r_out * k.r_out - k.r_in * k.r_in));
+    const double phi = kTwoPi * u2;
+    lp.pos = k.center + k.axis_u * (rho * std::cos(phi)) + k.axis_v * (rho * std::sin(phi));
+    lp.normal = k.normal;
+    lp.area = M_PI * (k.r_out * k.r_out - k.r_in * k.r_in) * length(cross(k.axis_u, k.axis_v));
+  } else if (pr.kind == PrimKind::kSphere) {
+    const Sphere& s = sc.spheres[pr.index];
+    const double z = 1.0 - 2.0 * u1, rxy = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = kTwoPi * u2;
+    lp.normal = {rxy * std::cos(phi), rxy * std::sin(phi), z};
+    lp.pos = s.center + lp.normal * s.radius;
+    lp.area = 2.0 * kTwoPi * s.radius * s.radius;
+  } else {
+    return false;
+  }
+  return lp.area > 0.0 && std::isfinite(lp.area);
+}
+
+// The unit normal and area of light prim p at user-frame point x on it.
+inline bool light_point_at(const Scene& sc, int p, V3 x, LightPoint& lp) {
+  const Prim& pr = sc.prims[p];
+  lp.pos = x;
+  if (pr.kind == PrimKind::kQuad) {
+    const Quad& q = sc.quads[pr.index];
+    lp.normal = q.normal;
+    lp.area = length(cross(q.eu, q.ev));
+  } else if (pr.kind == PrimKind::kDisk) {
+    const Disk& k = sc.disks[pr.index];
+    lp.normal = k.normal;
+    lp.area = M_PI * (k.r_out * k.r_out - k.r_in * k.r_in) * length(cross(k.axis_u, k.axis_v));
+  } else if (pr.kind == PrimKind::kSphere) {
+    const Sphere& s = sc.spheres[pr.index];
+    lp.normal = normalize(x - s.center);
+    lp.area = 2.0 * kTwoPi * s.radius * s.radius;
+  } else {
+    return false;
+  }
+  return lp.area > 0.0 && std::isfinite(lp.area);
+}
+
 // Solid-angle pdf with which sample_light(p, x, L) produces local direction w.
 inline double light_pdf(const Scene& sc, int p, V3 x, const LinearMap& L, V3 w, double scale = 1.0) {
   const Prim& pr = sc.prims[p];

@@ -32,7 +32,10 @@
 // documented by kParamRelation, e.g. |Q| < M), a hand-written Hamiltonian right-hand side `rhs`
 // (checked against `rhs_autodiff` to 1e-12 by the contract tests), a horizon (`absorbed`,
 // `horizon_radius`), a chart change between sheets (`normalize_chart`, Ellis), and the map between the
-// integration chart and the Cartesian frame the user sees (`chart_to_user`, `user_to_chart`).
+// integration chart and the Cartesian frame the user sees (`chart_to_user`, `user_to_chart`), and, for a
+// static spherically symmetric metric, `kStaticSpherical = true` with `spherical_lens()` (lens_map.h:
+// A(u) and h(u) with ds^2 = -A dt^2 + dR^2 / (A h) + R^2 dOmega^2, u = 1 / R; the contract tests check
+// them against the metric's own geodesics).
 //
 // The state of a ray is y = (x^0..x^3, p_0..p_3) with x^0 = t and Cartesian x^1..x^3; the Hamiltonian
 // is H = 1/2 g^{mu nu} p_mu p_nu and Hamilton's equations dx^mu/dlambda = dH/dp_mu,
@@ -46,6 +49,7 @@
 
 #include "core/dual.h"
 #include "spacetime/landmarks.h"
+#include "spacetime/lens_map.h"
 #include "spacetime/params.h"
 
 namespace wv {
@@ -150,6 +154,11 @@ struct MetricBase {
   static constexpr bool kFlat = false;
   // The integration chart's x, y, z are the user's Cartesian coordinates (false: Ellis).
   static constexpr bool kUserIsChart = true;
+
+  // Static and spherically symmetric, with its lens map's functions in spherical_lens() (lens_map.h):
+  // the light connection then samples every image of a light exactly (integrators/lens_connection.h).
+  static constexpr bool kStaticSpherical = false;
+  SphericalLens spherical_lens() const { return {}; }
 
   // Sheets of the spacetime the user sees as separate Cartesian frames (2: a wormhole's two sides).
   static constexpr int kSheets = 1;

@@ -54,6 +54,10 @@ DEFAULT_OPTIONS = {
     "escape_radius": 1e3,
     "max_drift": None,  # warpviz.tracing.default_max_drift(tol)
     "chord_tolerance": 1e-3,
+    # curved space: "lens" samples every lensed image of a light where the metric is static and spherical
+    # (integrators/lens_connection.h), elsewhere (Kerr) the aimed proxies; "aimed" uses those everywhere
+    "light_connection": "lens",
+    "lens_images": 2,  # image orders the lens connection samples: 0 direct, 1 round the far side, ...
     "aim_lights": True,  # curved space: aim light samples with pilot geodesics (integrators/light_aim.h)
     "light_margin": True,  # ... and enlarge quad/disk light proxies by the aim's correction (lensed images)
     "pilot_tol": 1e-4,  # tolerance of those pilots (at least tol); they only aim, so it cannot bias
@@ -91,6 +95,8 @@ def render(
     max_depth: int | None = None,
     stepper: str | None = None,
     tol: float | None = None,
+    light_connection: str | None = None,
+    lens_images: int | None = None,
     aim_lights: bool | None = None,
     light_margin: bool | None = None,
     pilot_tol: float | None = None,
@@ -126,6 +132,17 @@ def render(
         Integrator for curved rays.
     tol : float, optional, keyword-only
         Integration tolerance.
+    light_connection : {"lens", "aimed"}, optional, keyword-only
+        How the light strategy finds the lights in curved space. ``"lens"`` (default): where the metric
+        is static and spherically symmetric (Schwarzschild, Reissner-Nordstrom, Ellis), a point is drawn
+        on a light by area and one of its lensed images is chosen by its exact lens map, with the exact
+        pdf; elsewhere (Kerr) and at points within 5 % of the photon sphere or throat, the aimed proxies.
+        ``"aimed"``: the flat-space proxies aimed by pilot geodesics everywhere. Flat space is the same
+        either way; every choice is unbiased.
+    lens_images : int, optional, keyword-only
+        Image orders the lens connection samples, 1-4 (default 2: the direct image and the one round the
+        far side of the hole; each further order is ~e^(-2 pi) dimmer). Higher orders are found by BSDF
+        sampling alone.
     aim_lights : bool, optional, keyword-only
         In curved space, aim the light connection with two pilot geodesics per light and vertex so the
         sampled directions land on the lights despite bending (default True). Unbiased either way.
@@ -161,6 +178,7 @@ def render(
     native, options, source = _resolve(scene, flat=flat, width=width, height=height, paper=paper)
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
                  "stepper": stepper, "tol": tol, "aim_lights": aim_lights,
+                 "light_connection": light_connection, "lens_images": lens_images,
                  "light_margin": light_margin, "pilot_tol": pilot_tol,
                  "batch": batch}  # fmt: skip
     for key, value in overrides.items():
@@ -178,6 +196,11 @@ def render(
         if not isinstance(options[key], (bool, np.bool_)):
             raise ValueError(f"{key} must be True or False, got {options[key]!r}")
         options[key] = bool(options[key])
+    if options["light_connection"] not in ("lens", "aimed"):
+        raise ValueError(f"light_connection must be 'lens' or 'aimed', got {options['light_connection']!r}")
+    options["lens_images"] = _positive_int("lens_images", options["lens_images"])
+    if options["lens_images"] > 4:
+        raise ValueError(f"lens_images must be 1-4, got {options['lens_images']}")
     if options["stepper"] not in STEPPERS:
         raise ValueError(f"unknown stepper {options['stepper']!r} (known: {', '.join(STEPPERS)})")
     options["max_drift"] = (default_max_drift(options["tol"]) if options["max_drift"] is None
