@@ -40,7 +40,8 @@ def registered_metrics() -> list[dict]:
         ``params`` (list of str, constructor order), ``param_specs`` (list of dict with ``name``, ``lo``,
         ``lo_open``, ``hi``, ``hi_open``, ``default``, ``example``, ``doc``), ``param_relation`` (str, a constraint
         between parameters or ""), ``invariants`` (list of str, the first ``"H"``), ``sheets`` (int),
-        ``flat`` (bool) and ``lane_rhs`` (bool: a hand-written right-hand side that steps in SIMD lanes).
+        ``flat`` (bool), ``lane_rhs`` (bool: a hand-written right-hand side that steps in SIMD lanes) and
+        ``static_spherical`` (bool: an exact lens map, used by the light connection).
     """
     out = []
     for m in core.metrics():

@@ -272,6 +272,7 @@ nb::list metrics() {
     d["sheets"] = e.sheets;
     d["flat"] = e.flat;
     d["lane_rhs"] = e.lane_rhs;
+    d["static_spherical"] = e.static_spherical;
     out.append(d);
   }
   return out;

@@ -12,6 +12,7 @@
 #include "bindings/arrays.h"
 #include "bindings/scene_dict.h"
 #include "engine/registry.h"
+#include "integrators/lens_connection.h"
 #include "scene/material.h"
 
 namespace nb = nanobind;
@@ -141,6 +142,59 @@ void bind_testing(nb::module_& m) {
         return to_numpy(std::move(y), {8});
       },
       "metric"_a, "params"_a, "pos"_a, "dir"_a, "sheet"_a = 1);
+  m.def(
+      "lens_ray",
+      [](const std::string& metric, const std::vector<double>& params, double r_a, double r_b, bool same_sheet,
+         double phi) -> nb::object {
+        wv::SphericalLens lens;
+        if (!wv::make_spacetime(metric, params)->spherical_lens(lens))
+          throw std::invalid_argument(metric + " is not static and spherically symmetric");
+        const wv::LensMap map(lens, 1.0 / r_a, 1.0 / r_b, same_sheet);
+        const wv::LensRay r = map.solve(phi);
+        if (!r.ok) return nb::none();
+        return nb::make_tuple(r.psi, r.phi, r.dphi_dpsi, r.dr_dphi, r.b);
+      },
+      "metric"_a, "params"_a, "r_a"_a, "r_b"_a, "same_sheet"_a, "phi"_a,
+      "Test hook: the ray from radius r_a to r_b sweeping azimuth phi, as (psi, phi, dphi/dpsi, dR/dphi at "
+      "B, b), or None.");
+  m.def(
+      "lens_images",
+      [](const std::string& metric, const std::vector<double>& params, F64In pos_a, int sheet_a, F64In normal_a,
+         F64In pos_b, F64In normal_b, int sheet_b, double area, bool two_sided, int orders) {
+        wv::SphericalLens lens;
+        if (!wv::make_spacetime(metric, params)->spherical_lens(lens))
+          throw std::invalid_argument(metric + " is not static and spherically symmetric");
+        const auto a = copy1(pos_a, 3, "pos_a"), na = copy1(normal_a, 3, "normal_a");
+        const auto b = copy1(pos_b, 3, "pos_b"), nb_ = copy1(normal_b, 3, "normal_b");
+        wv::LensVertex v;  // the local frame aligned with the user axes (the static frame's, see trace())
+        v.pos = {a[0], a[1], a[2]};
+        v.sheet = sheet_a;
+        v.radial_local = wv::normalize(v.pos);
+        v.normal_local = wv::normalize(wv::V3{na[0], na[1], na[2]});
+        wv::LensLight l;
+        l.pos = {b[0], b[1], b[2]};
+        l.normal = wv::normalize(wv::V3{nb_[0], nb_[1], nb_[2]});
+        l.area = area;
+        l.sheet = sheet_b;
+        l.two_sided = two_sided;
+        const wv::LensImages im = wv::lens_images(lens, v, l, orders);
+        std::vector<double> dirs, weights, jac;
+        for (int i = 0; i < im.n; ++i) {
+          dirs.insert(dirs.end(), {im.w[i].x, im.w[i].y, im.w[i].z});
+          weights.push_back(im.weight[i]);
+          jac.push_back(im.jacobian[i]);
+        }
+        const size_t n = size_t(im.n);
+        nb::dict out;
+        out["directions"] = to_numpy(std::move(dirs), {n, 3});
+        out["weights"] = to_numpy(std::move(weights), {n});
+        out["jacobians"] = to_numpy(std::move(jac), {n});
+        return out;
+      },
+      "metric"_a, "params"_a, "pos_a"_a, "sheet_a"_a, "normal_a"_a, "pos_b"_a, "normal_b"_a, "sheet_b"_a, "area"_a,
+      "two_sided"_a, "orders"_a,
+      "Test hook: the lensed images of light point B seen from A (directions (n, 3) in the static frame "
+      "aligned with the axes, weights cos theta |dOmega/dA| (n,), area Jacobians |dA/dOmega| (n,)).");
 }
 
 }  // namespace wv::bindings

@@ -38,6 +38,7 @@ MetricEntry metric_entry() {
   e.sheets = M::kSheets;
   e.flat = M::kFlat;
   e.lane_rhs = HasLaneRhs<M>::value;
+  e.static_spherical = M::kStaticSpherical;
   e.relation_problem = &M::param_relation_problem;
   e.make = [](const std::vector<double>& p) -> std::unique_ptr<Spacetime> {
     return std::make_unique<SpacetimeImpl<M>>(M(p));

@@ -32,6 +32,7 @@ struct MetricEntry {
   int sheets = 1;
   bool flat = false;
   bool lane_rhs = false;  // a hand-written right-hand side that runs in SIMD lanes (else ~6x slower, by AD)
+  bool static_spherical = false;  // has an exact lens map (spacetime/lens_map.h) for the light connection
   std::string (*relation_problem)(const double*) = nullptr;
   std::function<std::unique_ptr<Spacetime>(const std::vector<double>&)> make;
 };

@@ -31,6 +31,8 @@ class Spacetime {
   // The local observer's frame at chart point x (closed form where the metric has one, or the generic
   // construction); false where there is none.
   virtual bool observer_frame(const double x[4], bool generic, ObserverFrame& f) const = 0;
+  // A static spherical metric's lens-map functions (spacetime/lens_map.h); false for the others.
+  virtual bool spherical_lens(SphericalLens& out) const = 0;
 };
 
 template <class M>
@@ -55,6 +57,10 @@ class SpacetimeImpl final : public Spacetime {
   }
   bool observer_frame(const double x[4], bool generic, ObserverFrame& f) const override {
     return generic ? observer_frame_generic(m_, x, f) : wv::observer_frame(m_, x, f);
+  }
+  bool spherical_lens(SphericalLens& out) const override {
+    out = m_.spherical_lens();
+    return M::kStaticSpherical;
   }
 
  private:

@@ -32,6 +32,9 @@
 
 namespace wv {
 
+// 1 - cos of 1e-3 rad: a traced ray is the image it follows to ~1e-6 rad, and distinct images lie far apart.
+inline constexpr double kLensMatchCos = 5e-7;
+
 // What the lens connection needs of a diffuse vertex.
 struct LensVertex {
   V3 pos;           // user frame
@@ -47,27 +50,95 @@ struct LensImages {
   int n = 0;
   V3 w[kMax];          // local direction at the vertex
   double weight[kMax];  // cos(theta) |dOmega / dA|
+  double jacobian[kMax];  // |dA_B / dOmega_A| (0 where the weight is 0)
   double total = 0.0;
   double area = 0.0;   // of the light
 };
 
+// A light point as the lens connection sees it.
+struct LensLight {
+  V3 pos, normal;       // user frame
+  double area = 0.0;    // of the whole light
+  int sheet = 1;
+  bool two_sided = false;
+};
+
+// The images of order < orders of light point b seen from vertex v.
+inline LensImages lens_images(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders) {
+  LensImages im;
+  im.area = b.area;
+  const double RA = length(v.pos), RB = length(b.pos);
+  if (!(RA > 0.0 && RB > 0.0)) return im;
+  const V3 xa = v.pos / RA, xb = b.pos / RB;
+  const V3 side = xb - xa * dot(xb, xa);  // towards B, perpendicular to A's radial direction
+  const double sin_g = length(side);
+  if (!(sin_g > 1e-9)) return im;
+  const double gamma = std::atan2(sin_g, dot(xa, xb));
+  const V3 toward = side / sin_g;
+  const LensMap map(lens, 1.0 / RA, 1.0 / RB, b.sheet == v.sheet);
+  if (!map.valid()) return im;
+  // Orders in turn, each started from the last one's root (Phi grows with z).
+  double z = map.flat_guess(gamma);
+  for (int m = 0; m < std::min(orders, LensImages::kMax); ++m) {
+    const bool long_way = m % 2 == 1;
+    const double target = long_way ? kTwoPi * double((m + 1) / 2) - gamma : kTwoPi * double(m / 2) + gamma;
+    const LensRay r = map.solve(target, z, &z);
+    if (!r.ok) break;
+    const V3 t_user = long_way ? -toward : toward;  // the ray's sense of rotation about the centre
+    V3 t_local = v.to_local(t_user);
+    t_local = normalize(t_local - v.radial_local * dot(t_local, v.radial_local));
+    const V3 w = v.radial_local * std::cos(r.psi) + t_local * std::sin(r.psi);
+    // Arrival direction at B and the area Jacobian.
+    const double sp = std::sin(r.phi), cp = std::cos(r.phi);
+    const V3 phi_hat = xa * (-sp) + t_user * cp;
+    const V3 t_arr = normalize(xb * r.dr_dphi + phi_hat * RB);
+    const double cos_r = std::fabs(dot(t_arr, xb)), cos_n = dot(t_arr, b.normal);
+    double weight = 0.0;
+    const double cos_a = dot(w, v.normal_local);
+    if (cos_a > 0.0 && (b.two_sided || cos_n < 0.0) && std::isfinite(r.dphi_dpsi)) {
+      const double jac =
+          RB * RB * std::fabs(sp) * std::fabs(r.dphi_dpsi) * cos_r / (std::sin(r.psi) * std::fabs(cos_n));
+      if (jac > 0.0 && std::isfinite(jac)) weight = cos_a / jac;
+    }
+    im.w[im.n] = w;
+    im.jacobian[im.n] = weight > 0.0 ? cos_a / weight : 0.0;
+    im.weight[im.n] = weight;
+    im.total += weight;
+    ++im.n;
+  }
+  return im;
+}
+
+// Solid-angle pdf with which the light strategy at v, choosing this light with probability p_light, draws
+// local direction w whose geodesic first reaches the light at b (0 unless w is one of b's images).
+inline double lens_pdf(const SphericalLens& lens, const LensVertex& v, V3 w, const LensLight& b, int orders,
+                       double p_light) {
+  const LensImages im = lens_images(lens, v, b, orders);
+  if (!(im.total > 0.0)) return 0.0;
+  for (int i = 0; i < im.n; ++i) {
+    if (im.weight[i] > 0.0 && dot(im.w[i], w) > 1.0 - kLensMatchCos)
+      return p_light * dot(w, v.normal_local) / (im.area * im.total);
+  }
+  return 0.0;
+}
+
 template <class M>
 class LensConnection {
  public:
-  LensConnection(const M& m, const Scene& sc, int orders) : sc_(sc), orders_(std::clamp(orders, 1, LensImages::kMax)) {
+  LensConnection(const M& m, const Scene& sc, int orders)
+      : sc_(sc), orders_(std::clamp(orders, 1, LensImages::kMax)) {
     if constexpr (M::kStaticSpherical) lens_ = m.spherical_lens();
   }
 
   // Whether the connection applies at vertex e (else the aimed proxies do): the metric is static and
-  // spherical and e lies outside the innermost sphere its lens map covers. A choice made from the vertex
-  // alone, so both strategies agree on it.
+  // spherical and e lies outside the innermost sphere its lens map covers (by 5 %). A choice made from the
+  // vertex alone, so both strategies agree on it.
   bool applies(const SegmentEnd& e) const {
     if constexpr (!M::kStaticSpherical) {
       (void)e;
       return false;
     } else {
-      const double r = length(e.pos);
-      return lens_.u_inner > 0.0 && r * lens_.u_inner > 1.05;
+      return lens_.u_inner > 0.0 && length(e.pos) * lens_.u_inner > 1.05;
     }
   }
 
@@ -81,59 +152,13 @@ class LensConnection {
     return v;
   }
 
-  // The images of order < N of point lp on light prim p as seen from v.
-  LensImages images(const LensVertex& v, int p, const LightPoint& lp) const {
-    LensImages im;
-    im.area = lp.area;
-    const double RA = length(v.pos), RB = length(lp.pos);
-    if (!(RA > 0.0 && RB > 0.0)) return im;
-    const V3 xa = v.pos / RA, xb = lp.pos / RB;
-    const V3 side = xb - xa * dot(xb, xa);  // towards B, perpendicular to A's radial direction
-    const double sin_g = length(side);
-    if (!(sin_g > 1e-9)) return im;
-    const double gamma = std::atan2(sin_g, dot(xa, xb));
-    const V3 toward = side / sin_g;
-    const LensMap map(lens_, 1.0 / RA, 1.0 / RB, sc_.prims[p].sheet == v.sheet);
-    if (!map.valid()) return im;
-    const Material& mat = sc_.materials[sc_.prims[p].material];
-    // Orders in turn, each started from the last one's root (Phi grows with z).
-    double z = map.flat_guess(gamma);
-    for (int m = 0; m < orders_; ++m) {
-      const bool long_way = m % 2 == 1;
-      const double target = long_way ? kTwoPi * double((m + 1) / 2) - gamma : kTwoPi * double(m / 2) + gamma;
-      const LensRay r = map.solve(target, z, &z);
-      if (!r.ok) break;
-      const V3 t_user = long_way ? -toward : toward;  // the ray's sense of rotation about the centre
-      V3 t_local = v.to_local(t_user);
-      t_local = normalize(t_local - v.radial_local * dot(t_local, v.radial_local));
-      const V3 w = v.radial_local * std::cos(r.psi) + t_local * std::sin(r.psi);
-      // Arrival direction at B and the area Jacobian.
-      const double sp = std::sin(r.phi), cp = std::cos(r.phi);
-      const V3 phi_hat = xa * (-sp) + t_user * cp;
-      const V3 t_arr = normalize(xb * r.dr_dphi + phi_hat * RB);
-      const double cos_r = std::fabs(dot(t_arr, xb)), cos_n = dot(t_arr, lp.normal);
-      double weight = 0.0;
-      const double cos_a = dot(w, v.normal_local);
-      if (cos_a > 0.0 && (mat.two_sided || cos_n < 0.0) && std::isfinite(r.dphi_dpsi)) {
-        const double jac = RB * RB * std::fabs(sp) * std::fabs(r.dphi_dpsi) * cos_r /
-                           (std::sin(r.psi) * std::fabs(cos_n));
-        if (jac > 0.0 && std::isfinite(jac)) weight = cos_a / jac;
-      }
-      im.w[im.n] = w;
-      im.weight[im.n] = weight;
-      im.total += weight;
-      ++im.n;
-    }
-    return im;
-  }
-
   // A direction from v towards light number li (of the scene's light list) and its pdf, with the point
-  // aimed at.
+  // aimed at; u1, u2 pick the point, u3 the image.
   bool sample(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf, V3& target) const {
     const int p = sc_.lights[li];
     LightPoint lp;
     if (!sample_light_point(sc_, p, u1, u2, lp)) return false;
-    const LensImages im = images(v, p, lp);
+    const LensImages im = lens_images(lens_, v, light(p, lp), orders_);
     if (!(im.total > 0.0)) return false;
     double acc = 0.0;
     int k = im.n - 1;
@@ -157,28 +182,24 @@ class LensConnection {
   }
 
   // Solid-angle pdf with which the light strategy at v draws local direction w whose geodesic first hits
-  // light prim p at user-frame point x (0 unless w is one of x's images of order < N).
+  // prim p at user-frame point x (0 if p is not a light or w not one of x's images of order < N).
   double pdf(const LensVertex& v, V3 w, int p, V3 x) const {
+    if (p < 0 || std::find(sc_.lights.begin(), sc_.lights.end(), p) == sc_.lights.end()) return 0.0;
     LightPoint lp;
     if (!light_point_at(sc_, p, x, lp)) return 0.0;
-    const LensImages im = images(v, p, lp);
-    if (!(im.total > 0.0)) return 0.0;
-    for (int i = 0; i < im.n; ++i) {
-      if (im.weight[i] > 0.0 && dot(im.w[i], w) > 1.0 - kMatchCos)
-        return dot(w, v.normal_local) / (im.area * im.total * double(sc_.lights.size()));
-    }
-    return 0.0;
-  }
-
-  bool is_light(int prim) const {
-    if (prim < 0) return false;
-    for (int l : sc_.lights)
-      if (l == prim) return true;
-    return false;
+    return lens_pdf(lens_, v, w, light(p, lp), orders_, 1.0 / double(sc_.lights.size()));
   }
 
  private:
-  static constexpr double kMatchCos = 5e-7;  // 1 - cos of 1e-3 rad: a traced ray is its image to ~1e-6
+  LensLight light(int p, const LightPoint& lp) const {
+    LensLight b;
+    b.pos = lp.pos;
+    b.normal = lp.normal;
+    b.area = lp.area;
+    b.sheet = sc_.prims[p].sheet;
+    b.two_sided = sc_.materials[sc_.prims[p].material].two_sided;
+    return b;
+  }
 
   const Scene& sc_;
   SphericalLens lens_;

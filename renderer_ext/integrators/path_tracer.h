@@ -123,7 +123,7 @@ class PathTracer {
       }
       const V3 Le = emission_.emission(e);
       if (lens_prev) {
-        const double pl = e.status == kHit && lens_.is_light(e.prim) ? lens_.pdf(lens_v, lens_w, e.prim, e.pos) : 0.0;
+        const double pl = e.status == kHit ? lens_.pdf(lens_v, lens_w, e.prim, e.pos) : 0.0;
         mis = lens_pb / (lens_pb + pl);
       }
       L += beta * Le * mis;
