@@ -112,7 +112,7 @@ class LensMap {
         next = 0.5 * (lo + hi);
       } else {
         const double f = r.phi - target;
-        if (std::fabs(f) <= 1e-12 * std::max(1.0, target)) {
+        if (std::fabs(f) <= 1e-10 * std::max(1.0, target)) {  // B to ~1e-10 of its radius
           if (z_out) *z_out = z;
           return r;
         }

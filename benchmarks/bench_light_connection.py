@@ -1,0 +1,144 @@
+"""Efficiency of the light connections in the lit rooms around black holes and wormholes.
+
+Efficiency = 1 / (relative MSE x CPU time) against a converged reference, for the shipped rooms fig07
+(Schwarzschild), fig10d (Kerr a = 0.9), fig12 and fig13 (Ellis, the room side and the space side), each
+rendered with
+
+* ``lens``   the lens-aware connection (default; exact lens map where the metric is static and spherical,
+             the aimed proxies elsewhere, i.e. in Kerr),
+* ``aimed``  the flat-space proxies aimed by pilot geodesics (the connection before the lens map),
+* ``brute``  no light connection (BSDF sampling only),
+* ``seed``   the seed paper's method: brute force with its fixed-step RK4,
+
+and the same room in flat space (``--flat``, the default connection, which is exact there).
+
+The reference of each room is the default estimator at ``--ref-spp`` samples in two independent halves;
+their difference estimates the reference's own noise, which is subtracted from every MSE. The relative MSE
+is the mean squared error over pixels and channels divided by the squared mean of the reference. It is
+reported twice: over every pixel, and over the pixels that do not see an emitter directly (found by a
+camera-segment-only render): those few pixels, where the camera sees a lensed image of the lamp, carry
+the noise of the camera rays' pixel footprint (the lamp's edge inside a pixel), which no light connection
+touches. Direct light alone (max depth 2) gives the relative RMSE at 16 spp the issue compares with the
+flat room's.
+
+    python benchmarks/bench_light_connection.py            # ~10 minutes on one core
+    python benchmarks/bench_light_connection.py --quick    # seconds
+
+Writes ``light_connection.csv`` (one row per room and estimator) to ``--out`` (default
+benchmarks/results) and prints a table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+import warpviz as wv
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import RESULTS, machine_line, timed, write_csv  # noqa: E402
+
+#: Estimators: name -> render options.
+ESTIMATORS = {
+    "lens": {},
+    "aimed": {"light_connection": "aimed"},
+    "brute": {"light_sampling": False},
+    "seed": {"light_sampling": False, "stepper": "rk4"},
+}
+
+#: Rooms: name -> (scene, flat companion).
+ROOMS = {"fig07": False, "fig10d": False, "fig12": False, "fig13": False, "fig07 flat": True}
+
+
+def _scene(room: str) -> str:
+    return room.split()[0]
+
+
+def _render(room: str, cfg: dict, *, spp: int, seed: int, max_depth: int | None = None, **options):
+    kw = {"width": cfg["size"][0], "height": cfg["size"][1], "threads": 1, "flat": ROOMS[room]}
+    if max_depth is not None:
+        kw["max_depth"] = max_depth
+    img, cpu, _ = timed(lambda: wv.render(_scene(room), spp=spp, seed=seed, **kw, **options))
+    return img.rgb.astype(np.float64), cpu
+
+
+def reference(room: str, cfg: dict, *, max_depth: int | None = None):
+    """The reference frame from two halves, the MSE its own noise adds, and the mask of pixels that see
+    no emitter directly."""
+    a, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=100_001, max_depth=max_depth)
+    b, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=200_003, max_depth=max_depth)
+    direct, _ = _render(room, cfg, spp=16, seed=7, max_depth=1)  # the camera segment alone
+    return 0.5 * (a + b), (a - b) ** 2 / 4.0, direct.max(axis=2) <= 0.0
+
+
+def measure(room: str, cfg: dict, estimator: str, ref, noise, mask, *, max_depth: int | None = None) -> dict:
+    """Relative MSE (all pixels and emitter-free ones) and CPU time of one estimator, over cfg['seeds']."""
+    scale_all, scale_masked = float(ref.mean()) ** 2, float(ref[mask].mean()) ** 2
+    mse_all, mse_masked, cpu = [], [], []
+    for seed in range(cfg["seeds"]):
+        img, t = _render(room, cfg, spp=cfg["spp"], seed=seed, max_depth=max_depth, **ESTIMATORS[estimator])
+        err = (img - ref) ** 2 - noise
+        mse_all.append(max(float(err.mean()), 1e-30) / scale_all)
+        mse_masked.append(max(float(err[mask].mean()), 1e-30) / scale_masked)
+        cpu.append(t)
+    t = float(np.mean(cpu))
+    rel_all, rel_masked = float(np.mean(mse_all)), float(np.mean(mse_masked))
+    return {"room": room, "estimator": estimator, "max_depth": max_depth or "scene", "spp": cfg["spp"],
+            "width": cfg["size"][0], "height": cfg["size"][1], "reference_spp": cfg["ref_spp"],
+            "cpu_s": t, "rel_mse": rel_all, "efficiency": 1.0 / (rel_all * t),
+            "rel_mse_no_emitter_pixels": rel_masked, "efficiency_no_emitter_pixels": 1.0 / (rel_masked * t),
+            "rel_rmse": math.sqrt(rel_all), "rel_rmse_no_emitter_pixels": math.sqrt(rel_masked),
+            "emitter_pixels": int((~mask).sum())}  # fmt: skip
+
+
+def main(argv=None) -> list[dict]:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--quick", action="store_true", help="tiny frames and references (seconds; for tests)")
+    p.add_argument("--out", type=Path, default=RESULTS)
+    p.add_argument("--rooms", default=",".join(ROOMS), help="comma-separated subset of " + ", ".join(ROOMS))
+    args = p.parse_args(argv)
+    cfg = ({"size": (12, 9), "spp": 4, "ref_spp": 32, "seeds": 1} if args.quick else
+           {"size": (48, 36), "spp": 16, "ref_spp": 1024, "seeds": 3})  # fmt: skip
+    print(machine_line(threads=1))
+    rows = []
+    rooms = [r.strip() for r in args.rooms.split(",") if r.strip()]
+    for room in rooms:
+        if room not in ROOMS:
+            raise SystemExit(f"unknown room {room!r} (known: {', '.join(ROOMS)})")
+        ref, noise, mask = reference(room, cfg)
+        estimators = ["lens"] if ROOMS[room] else list(ESTIMATORS)
+        for est in estimators:
+            rows.append(measure(room, cfg, est, ref, noise, mask))
+        # direct light alone
+        dref, dnoise, dmask = reference(room, cfg, max_depth=2)
+        for est in ["lens"] if ROOMS[room] else ["lens", "aimed", "brute"]:
+            rows.append(measure(room, cfg, est, dref, dnoise, dmask, max_depth=2))
+    for r in rows:
+        same = [q for q in rows if q["room"] == r["room"] and q["max_depth"] == r["max_depth"]]
+        base = {q["estimator"]: q for q in same}
+        flat = next((q for q in rows if q["room"] == "fig07 flat" and q["max_depth"] == r["max_depth"]), None)
+        for other in ("brute", "seed", "aimed"):
+            if other in base:
+                r[f"over_{other}"] = r["efficiency"] / base[other]["efficiency"]
+                r[f"over_{other}_no_emitter_pixels"] = (r["efficiency_no_emitter_pixels"]
+                                                        / base[other]["efficiency_no_emitter_pixels"])  # fmt: skip
+        if flat is not None and r["room"].startswith("fig07"):
+            r["flat_over_this"] = flat["efficiency"] / r["efficiency"]
+            r["flat_over_this_no_emitter_pixels"] = (flat["efficiency_no_emitter_pixels"]
+                                                     / r["efficiency_no_emitter_pixels"])  # fmt: skip
+    path = write_csv(args.out / "light_connection.csv", rows)
+    print(f"{'room':12s} {'depth':6s} {'estimator':9s} {'cpu s':>7s} {'rel MSE':>9s} {'eff':>9s} "
+          f"{'rel MSE*':>9s} {'eff*':>9s}   (* pixels that see no emitter directly)")  # fmt: skip
+    for r in rows:
+        print(f"{r['room']:12s} {str(r['max_depth']):6s} {r['estimator']:9s} {r['cpu_s']:7.2f} {r['rel_mse']:9.4f} "
+              f"{r['efficiency']:9.2f} {r['rel_mse_no_emitter_pixels']:9.5f} {r['efficiency_no_emitter_pixels']:9.2f}")
+    print(f"wrote {path}")
+    return rows
+
+
+if __name__ == "__main__":
+    main()
