@@ -70,7 +70,7 @@ def test_inward_images_are_the_outward_ones_reversed(entry):
         back = testing.lens_ray(entry["name"], params, 14.0 * s, 5.0 * s, True, phi)
         assert out is not None and back is not None
         assert back[4] == pytest.approx(out[4], rel=1e-9)  # b
-        assert back[1] == pytest.approx(out[1], abs=1e-11)
+        assert back[1] == pytest.approx(out[1], rel=1e-9)
 
 
 def _swept(m, r_a, psi, r_b, sheets):
@@ -163,12 +163,29 @@ def test_lens_connection_lowers_the_noise_of_a_lensed_room():
     assert lens.var(axis=0).mean() < 0.3 * aimed.var(axis=0).mean()
 
 
-def test_kerr_and_flat_space_keep_their_connection_bit_for_bit():
-    for spec in (metric("kerr", 1.0, 0.9), metric("minkowski")):
-        sc = room(spec, size=(8, 6))
-        a = wv.render(sc, spp=2, seed=3)
-        b = wv.render(sc, spp=2, seed=3, light_connection="aimed")
-        assert np.array_equal(a.rgb, b.rgb)
+def test_flat_space_keeps_its_connection_bit_for_bit():
+    sc = room(metric("minkowski"), size=(8, 6))
+    a = wv.render(sc, spp=2, seed=3)
+    b = wv.render(sc, spp=2, seed=3, light_connection="aimed")
+    assert np.array_equal(a.rgb, b.rgb)
+
+
+def test_kerr_image_proxies_keep_the_mean_and_lower_the_noise():
+    """Kerr has no plane reduction: its images start from the Schwarzschild map of the same mass and are
+    refined on pilot geodesics; the proxies around them are densities over directions (measured: 5x lower
+    variance than the aimed proxies here, the same mean as brute force)."""
+    sc = room(metric("kerr", 1.0, 0.9), size=(12, 9), light=3.0, spheres=False)
+    lens = _image_means(sc, range(12), spp=8, max_depth=3)
+    brute = _image_means(sc, range(12, 36), spp=8, max_depth=3, light_sampling=False)
+    aimed = _image_means(sc, range(36, 48), spp=8, max_depth=3, light_connection="aimed")
+    assert_same_mean(lens, brute, slack=2e-3 * brute.mean())
+    assert_same_mean(lens, aimed, slack=2e-3 * aimed.mean())
+
+    def frames(lc):
+        return np.stack([wv.render(sc, spp=8, seed=s, max_depth=3, light_connection=lc).rgb
+                         for s in range(6)]).astype(np.float64)
+
+    assert frames("lens").var(axis=0).mean() < 0.5 * frames("aimed").var(axis=0).mean()
 
 
 def test_light_connection_options_are_validated():

@@ -109,6 +109,52 @@ inline LensImages lens_images(const SphericalLens& lens, const LensVertex& v, co
   return im;
 }
 
+// An image of light point b seen from v with the lens map's local linearisation: its direction w (local),
+// an orthonormal tangent basis e1, e2 (local) and how a displacement of w along them moves the point the
+// ray reaches on the light's plane (user frame): the columns d_e1, d_e2 of the 3 x 2 Jacobian.
+struct LensImageFrame {
+  V3 w, e1, e2, d_e1, d_e2;
+};
+
+// The image frames of order < orders of point b (normal b.normal) from v; returns how many.
+inline int lens_image_frames(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders,
+                             LensImageFrame* out) {
+  const double RA = length(v.pos), RB = length(b.pos);
+  if (!(RA > 0.0 && RB > 0.0)) return 0;
+  const V3 xa = v.pos / RA, xb = b.pos / RB;
+  const V3 side = xb - xa * dot(xb, xa);
+  const double sin_g = length(side);
+  if (!(sin_g > 1e-9)) return 0;
+  const double gamma = std::atan2(sin_g, dot(xa, xb));
+  const V3 toward = side / sin_g;
+  const LensMap map(lens, 1.0 / RA, 1.0 / RB, b.sheet == v.sheet);
+  if (!map.valid()) return 0;
+  double z = map.flat_guess(gamma);
+  int n = 0;
+  for (int m = 0; m < std::min(orders, LensImages::kMax); ++m) {
+    const bool long_way = m % 2 == 1;
+    const double target = long_way ? kTwoPi * double((m + 1) / 2) - gamma : kTwoPi * double(m / 2) + gamma;
+    const LensRay r = map.solve(target, z, &z);
+    if (!r.ok || !std::isfinite(r.dphi_dpsi)) break;
+    const V3 t_user = long_way ? -toward : toward;
+    V3 t_local = v.to_local(t_user);
+    t_local = normalize(t_local - v.radial_local * dot(t_local, v.radial_local));
+    const double sp = std::sin(r.phi), cp = std::cos(r.phi), spsi = std::sin(r.psi);
+    const V3 phi_hat = xa * (-sp) + t_user * cp;
+    const V3 t_arr = normalize(xb * r.dr_dphi + phi_hat * RB);
+    const double tn = dot(t_arr, b.normal);
+    if (!(std::fabs(tn) > 1e-9) || !(spsi > 1e-12)) continue;
+    auto onto_plane = [&](V3 d) { return d - t_arr * (dot(d, b.normal) / tn); };
+    LensImageFrame& f = out[n++];
+    f.w = v.radial_local * std::cos(r.psi) + t_local * spsi;
+    f.e1 = v.radial_local * (-spsi) + t_local * std::cos(r.psi);  // towards larger psi
+    f.e2 = normalize(cross(v.radial_local, t_local));              // about the radial axis
+    f.d_e1 = onto_plane(phi_hat * (RB * r.dphi_dpsi));
+    f.d_e2 = onto_plane(normalize(cross(xa, t_user)) * (RB * sp / spsi));
+  }
+  return n;
+}
+
 // Solid-angle pdf with which the light strategy at v, choosing this light with probability p_light, draws
 // local direction w whose geodesic first reaches the light at b (0 unless w is one of b's images).
 inline double lens_pdf(const SphericalLens& lens, const LensVertex& v, V3 w, const LensLight& b, int orders,

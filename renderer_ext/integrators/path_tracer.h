@@ -163,14 +163,12 @@ class PathTracer {
         // Light strategy: a direction from the (pilot-aimed) flat-space proxy of one light, traced as a
         // geodesic.
         co_await lights_.aim(e, sp.normal, wo, st, frames, sched, aimed);
-        const int li = std::min(int(sc_.lights.size()) - 1, int(rng.uniform() * sc_.lights.size()));
+        const double ul = rng.uniform() * double(sc_.lights.size());
+        const int li = std::min(int(sc_.lights.size()) - 1, int(ul));
+        const double u3 = std::min(ul - double(li), 1.0 - 1e-16);  // the image, where a light has several
         const double u1 = rng.uniform(), u2 = rng.uniform();
         V3 wl;
-        double pl_one;
-        const int lp = sc_.lights[li];
-        const V3 from = aimed.at(size_t(li));
-        if (sc_.prims[lp].sheet == e.sheet &&
-            sample_light(sc_, lp, from, e.to_local, u1, u2, wl, pl_one, aimed.scale_of(size_t(li)))) {
+        if (lights_.sample(aimed, e, li, u1, u2, u3, wl)) {
           double pb;
           const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
           const double pl = lights_.lights_pdf(aimed, e.sheet, e.to_local, wl);

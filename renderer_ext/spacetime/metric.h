@@ -159,6 +159,10 @@ struct MetricBase {
   // the light connection then samples every image of a light exactly (integrators/lens_connection.h).
   static constexpr bool kStaticSpherical = false;
   SphericalLens spherical_lens() const { return {}; }
+  // A metric close to a static spherical one far out (Kerr: Schwarzschild of the same mass) may offer that
+  // one's lens map as a proxy: the light connection starts its Newton search for each image there.
+  static constexpr bool kLensProxy = false;
+  SphericalLens lens_proxy() const { return {}; }
 
   // Sheets of the spacetime the user sees as separate Cartesian frames (2: a wormhole's two sides).
   static constexpr int kSheets = 1;
