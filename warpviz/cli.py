@@ -165,14 +165,15 @@ def _progress_bar(label: str, *, enabled: bool):
         yield update
 
 
-def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_sampling, progress, record_pixels=None):
+def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_sampling, progress, record_pixels=None,
+                  light_connection=None):
     """Call warpviz.render with the command line's options; bad options become exit code 2."""
     render = _renderer()
     width, height = size if size is not None else (None, None)
     try:
         return render(scene, spp=spp, width=width, height=height, seed=seed, threads=threads, flat=flat,
                       light_sampling=light_sampling, paper=paper, progress=progress,
-                      record_pixels=record_pixels)  # fmt: skip
+                      record_pixels=record_pixels, light_connection=light_connection)  # fmt: skip
     except (ValueError, TypeError) as exc:
         if isinstance(exc, SceneError):
             raise
@@ -226,6 +227,12 @@ def render(
     no_light_sampling: bool = typer.Option(
         False, "--no-light-sampling", help="Brute-force path tracing, without light connection."
     ),
+    light_connection: Optional[str] = typer.Option(
+        None, "--light-connection",
+        help="How light samples find the lights in curved space: 'lens' (default: every lensed image, exact "
+        "in Schwarzschild, Reissner-Nordstrom and Ellis, Newton-refined proxies in Kerr) or 'aimed' (the "
+        "older flat-space proxies aimed by pilot geodesics, for comparison).",
+    ),  # fmt: skip
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:
     """Render a scene to a PNG or EXR image. Ctrl-C stops early and saves the partial image (exit 130)."""
@@ -237,7 +244,8 @@ def render(
         t0 = time.perf_counter()
         with _progress_bar(sc.path.stem if sc.path else "scene", enabled=not quiet) as progress:
             img = _render_scene(sc, spp=spp, size=size, seed=seed, threads=threads, flat=flat, paper=paper,
-                                light_sampling=False if no_light_sampling else None, progress=progress)  # fmt: skip
+                                light_sampling=False if no_light_sampling else None, progress=progress,
+                                light_connection=light_connection)  # fmt: skip
         if target.suffix.lower() == ".exr":
             _keep_aovs(img, sc.outputs.get("aovs"))
         img.save(target)
