@@ -290,7 +290,9 @@ class LensMap {
         const D1 t = mid + half * x[i], e = t * t;
         D1 d = c[np_ - 2];
         for (int j = np_ - 3; j >= 0; --j) d = d * e + c[j];
-        part = part + D1(w[i]) / sqrt(d);
+        const double r = 1.0 / std::sqrt(d.v);  // w / sqrt(d) and its derivative, one root and one division
+        part.v += w[i] * r;
+        part.d[0] -= 0.5 * w[i] * r * r * r * d.d[0];
       }
       sum = sum + part * half;
     }
@@ -308,7 +310,10 @@ class LensMap {
       const double lo = u1 + (u2 - u1) * 0.5 * piece, hi = lo + (u2 - u1) * 0.5;
       for (int i = 0; i < kNodes; ++i) {
         const D1 u(0.5 * (lo + hi) + 0.5 * (hi - lo) * x[i]);
-        sum = sum + D1(0.5 * (hi - lo) * w[i]) / sqrt(peval(p, u));
+        const D1 d = peval(p, u);
+        const double r = 1.0 / std::sqrt(d.v), wi = 0.5 * (hi - lo) * w[i];
+        sum.v += wi * r;
+        sum.d[0] -= 0.5 * wi * r * r * r * d.d[0];
       }
     }
     return sum * b;
