@@ -117,10 +117,9 @@ T option(const nb::dict& o, const char* key) {
 }
 
 nb::dict render(nb::dict scene, nb::dict options) {
-  if (!scene.contains("metric")) throw std::invalid_argument("scene.metric is missing");
-  nb::dict md = nb::cast<nb::dict>(scene["metric"]);
-  const std::string metric = nb::cast<std::string>(md["name"]);
-  const std::vector<double> params = md.contains("params") ? nb::cast<std::vector<double>>(md["params"]) : std::vector<double>{};
+  std::string metric;
+  std::vector<double> params;
+  wv::metric_from_dict(scene, metric, params);
   auto st = wv::make_spacetime(metric, params);
   wv::Scene sc;
   wv::scene_from_dict(scene, sc);
