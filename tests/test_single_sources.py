@@ -1,7 +1,8 @@
-"""Facts the core and the Python package share come from one place and agree: the core (statuses, columns)
-or Python (the native scene dict's keys and defaults)."""
+"""Facts the core and the Python package share come from one place and agree: the core (statuses, columns,
+the camera) or Python (the native scene dict's keys and defaults)."""
 
 import copy
+import math
 import re
 from pathlib import Path
 
@@ -11,7 +12,8 @@ import pytest
 import warpviz as wv
 from warpviz._native import core
 from warpviz.render.render import DEFAULT_OPTIONS
-from warpviz.scene.native import native_scene, schema_keys
+from warpviz.scene.camera import camera_basis, pinhole_directions
+from warpviz.scene.native import native_camera, native_scene, schema_keys
 from warpviz.scene.reader import key_name
 from warpviz.tracing import default_max_drift
 
@@ -119,3 +121,43 @@ def test_the_core_has_no_default_for_any_native_scene_key():
         name = f"scene.{path[0]}" if len(path) == 1 else key_name(path)
         with pytest.raises(ValueError, match=re.escape(f"'{name}' is missing")):
             core.render(scene, _render_options())
+
+
+def test_python_camera_directions_are_the_renderers():
+    cam = {"position": [1.0, -8.0, 2.0], "look_at": [0.0, 0.0, 0.5], "up": [0, 0, 1], "fov": 35.0, "width": 40,
+           "height": 30}  # fmt: skip
+    pixels = np.array([[0, 0], [39, 29], [20, 15], [7, 22]])
+    # pinhole_directions is the core's camera (integrators/camera.h), bit for bit
+    _, directions = core.camera_rays("minkowski", [], native_camera(cam), pixels + 0.25)
+    np.testing.assert_array_equal(pinhole_directions(cam, pixels, jitter=(0.25, 0.25)), directions)
+    # ... and the renderer's flat-space camera rays are its directions at their samples' jitter
+    scene = {"metric": {"name": "minkowski"}, "camera": cam, "materials": [], "shapes": []}
+    rays = wv.render(scene, spp=4, record_pixels=pixels, progress=None).rays
+    forward, right, up = camera_basis(cam)
+    tan_half = math.tan(math.radians(cam["fov"]) / 2)
+    camera_segments = np.flatnonzero(rays.ray_data["kind"] == 0)
+    assert len(camera_segments) == 4 * len(pixels)
+    for i in camera_segments:
+        pts = rays.ray_points(i)
+        d = (pts[-1] - pts[0]) / np.linalg.norm(pts[-1] - pts[0])
+        x, y = rays.ray_data["pixel_x"][i], rays.ray_data["pixel_y"][i]
+        jitter = ((d @ right / (d @ forward) / (tan_half * 40 / 30) + 1) * 20 - x,
+                  (1 - d @ up / (d @ forward) / tan_half) * 15 - y)  # fmt: skip
+        assert 0 <= jitter[0] < 1 and 0 <= jitter[1] < 1
+        np.testing.assert_allclose(pinhole_directions(cam, [x, y], jitter=jitter)[0], d, rtol=0, atol=1e-12)
+
+
+def test_python_has_no_camera_arithmetic_of_its_own():
+    source = (REPO / "warpviz" / "scene" / "camera.py").read_text()
+    code = "\n".join(line for line in source.splitlines() if not line.lstrip().startswith((">>>", "#")))
+    code = re.sub(r'"""[\s\S]*?"""', "", code)
+    assert "tan(" not in code and "cross(" not in code, "warpviz/scene/camera.py: the pinhole is the core's"
+
+
+def test_the_cores_camera_in_curved_space():
+    cam = native_camera({"position": [0, -30, 1], "look_at": [0, 0, 0], "width": 4, "height": 3})
+    frame, d = core.camera_rays("kerr", [1.0, 0.9], cam, np.array([[2.0, 1.5], [0.0, 0.0]]))
+    np.testing.assert_allclose(frame @ frame.T, np.eye(3), atol=1e-12)  # orthonormal in the local frame
+    np.testing.assert_allclose(d[0], frame[0], rtol=0, atol=1e-15)  # the image centre looks forward
+    with pytest.raises(ValueError, match="inside the horizon"):
+        core.camera_rays("schwarzschild", [1.0], {**cam, "position": [0.0, 0.5, 0.0]}, np.zeros((0, 2)))

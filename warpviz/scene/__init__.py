@@ -16,7 +16,7 @@ Modules, by concern:
   the compilers of the scene tables to native scene entries;
 * :mod:`~warpviz.scene.catalog` (the shipped scenes), :mod:`~warpviz.scene.textures` (texture images),
   :mod:`~warpviz.scene.primitives` (boxes, cylinders, transforms), :mod:`~warpviz.scene.camera` (the
-  pinhole camera, as the renderer's) and :mod:`~warpviz.scene.surfaces` (display meshes of the shapes
+  pinhole camera: the renderer's, from the core) and :mod:`~warpviz.scene.surfaces` (display meshes of the shapes
   and the camera).
 
 Examples

@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from warpviz.scene.native import SCHEMA
+from warpviz.scene.camera import camera_basis
+from warpviz.scene.native import SCHEMA, native_camera
 from warpviz.spacetime._meshes import _check_resolution, _join, _Piece, _revolve, _theta
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -178,8 +179,8 @@ def camera_frustum(camera: Mapping[str, Any], *, length: float | None = None) ->
     Parameters
     ----------
     camera : dict
-        ``position``, ``look_at``, ``up`` (3-vectors), ``fov`` (degrees, vertical), ``width`` and
-        ``height`` (pixels), optional ``sheet`` (see ``docs/native-scene.md``).
+        A native scene camera (``docs/native-scene.md``): ``position``, ``look_at`` (3-vectors), ``width``
+        and ``height`` (pixels), optional ``up``, ``fov`` (degrees, vertical) and ``sheet``.
     length : float, optional, keyword-only
         Distance from the apex to the base; default the distance to ``look_at``.
 
@@ -198,23 +199,11 @@ def camera_frustum(camera: Mapping[str, Any], *, length: float | None = None) ->
     """
     import pyvista as pv
 
-    position = _vector("camera", "position", camera["position"])
-    forward = _vector("camera", "look_at", camera["look_at"]) - position
-    distance = float(np.linalg.norm(forward))
-    if distance == 0.0:
-        raise ValueError("camera: look_at must differ from position")
-    forward /= distance
-    up = _vector("camera", "up", camera["up"])
-    right = np.cross(forward, up)
-    if np.linalg.norm(right) < 1e-12 * max(np.linalg.norm(up), 1e-300):
-        raise ValueError("camera: up must not be parallel to the view direction")
-    right /= np.linalg.norm(right)
-    true_up = np.cross(right, forward)
-    fov, width, height = float(camera["fov"]), int(camera["width"]), int(camera["height"])
-    if not 0.0 < fov < 180.0:
-        raise ValueError(f"camera: fov must be in (0, 180) degrees, got {fov!r}")
-    if width <= 0 or height <= 0:
-        raise ValueError(f"camera: width and height must be positive, got {width} x {height}")
+    camera = native_camera(camera)
+    forward, right, true_up = camera_basis(camera)  # the renderer's (and checks up against the view)
+    position = np.asarray(camera["position"], dtype=np.float64)
+    distance = float(np.linalg.norm(np.subtract(camera["look_at"], position)))
+    fov, width, height = camera["fov"], camera["width"], camera["height"]
     length = distance if length is None else float(length)
     if not (length > 0.0 and math.isfinite(length)):
         raise ValueError(f"length must be a positive finite distance, got {length!r}")
@@ -230,5 +219,5 @@ def camera_frustum(camera: Mapping[str, Any], *, length: float | None = None) ->
     frustum.field_data["fov"] = np.array([fov])
     frustum.field_data["width"] = np.array([width])
     frustum.field_data["height"] = np.array([height])
-    frustum.field_data["sheet"] = np.array([int(camera.get("sheet", SCHEMA["camera"]["sheet"]))])
+    frustum.field_data["sheet"] = np.array([camera["sheet"]])
     return frustum
