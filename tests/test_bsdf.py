@@ -9,6 +9,7 @@ import pytest
 from scipy import stats
 
 from warpviz._native import testing as core
+from warpviz.scene.native import native_material
 
 N_Z = np.array([0.0, 0.0, 1.0])
 WO = np.array([0.6, 0.0, 0.8])  # 36.87 degrees from the normal
@@ -17,6 +18,7 @@ WO = np.array([0.6, 0.0, 0.8])  # 36.87 degrees from the normal
 def sample(material, *, n=N_Z, wo=WO, albedo=(0.8, 0.5, 0.2), count=200_000, seed=1, at=None):
     u = np.random.default_rng(seed).random((count, 3))
     at = np.zeros((0, 3)) if at is None else np.ascontiguousarray(at, dtype=np.float64)
+    material = native_material(material)  # the optional keys' defaults, as for a scene
     return core.bsdf(material, list(albedo), list(n), list(wo), np.ascontiguousarray(u), at)
 
 

@@ -117,10 +117,9 @@ T option(const nb::dict& o, const char* key) {
 }
 
 nb::dict render(nb::dict scene, nb::dict options) {
-  if (!scene.contains("metric")) throw std::invalid_argument("scene.metric is missing");
-  nb::dict md = nb::cast<nb::dict>(scene["metric"]);
-  const std::string metric = nb::cast<std::string>(md["name"]);
-  const std::vector<double> params = md.contains("params") ? nb::cast<std::vector<double>>(md["params"]) : std::vector<double>{};
+  std::string metric;
+  std::vector<double> params;
+  wv::metric_from_dict(scene, metric, params);
   auto st = wv::make_spacetime(metric, params);
   wv::Scene sc;
   wv::scene_from_dict(scene, sc);
@@ -331,6 +330,20 @@ NB_MODULE(_core, m) {
       },
       "metric"_a, "params"_a, "origins"_a, "sheets"_a,
       "First origin a ray cannot start from, as (row, reason), or None.");
+  m.def(
+      "camera_rays",
+      [](const std::string& metric, const std::vector<double>& params, nb::dict camera, F64In pixels) {
+        if (pixels.ndim() != 2 || pixels.shape(1) != 2) throw std::invalid_argument("pixels must have shape (n, 2)");
+        wv::Camera cam;
+        wv::camera_from_dict(camera, cam);
+        const size_t n = pixels.shape(0);
+        std::vector<double> frame(9), directions(3 * n);
+        wv::make_spacetime(metric, params)->camera_rays(cam, pixels.data(), n, frame.data(), directions.data());
+        return nb::make_tuple(to_numpy(std::move(frame), {3, 3}), to_numpy(std::move(directions), {n, 3}));
+      },
+      "metric"_a, "params"_a, "camera"_a, "pixels"_a,
+      "The render camera's frame (rows forward, right, up) and its rays' directions through continuous pixel "
+      "coordinates (n, 2), in the local observer's frame at the camera (integrators/camera.h).");
   nb::module_ testing = m.def_submodule("_testing", "Test hooks (not public API)");
   wv::bindings::bind_testing(testing);
   m.def("build_info", []() {

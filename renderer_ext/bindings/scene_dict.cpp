@@ -1,7 +1,11 @@
+// The native scene dict -> Scene: conversion only (bindings/scene_dict.h). Every key is read with one of
+// the helpers below as helper(table, "key", where); none has a default, so a key that warpviz.scene.native
+// did not write fails loudly here instead of silently taking a value of its own.
 #include "bindings/scene_dict.h"
 
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
 
 #include <cmath>
 #include <stdexcept>
@@ -12,83 +16,84 @@ namespace nb = nanobind;
 namespace wv {
 namespace {
 
-[[noreturn]] void fail(const std::string& where, const std::string& what) {
-  throw std::invalid_argument(where + " " + what);
+[[noreturn]] void missing(const std::string& key, const char* type) {
+  throw std::invalid_argument("native scene: '" + key + "' is missing or not " + type +
+                              " (warpviz.scene.native.native_scene writes every key)");
 }
 
-nb::handle get(const nb::dict& d, const char* key, const std::string& where, bool required = true) {
-  if (d.contains(key)) return d[key];
-  if (required) fail(where + "." + key, "is missing");
-  return nb::handle();
+nb::handle item(const nb::dict& d, const char* key, const std::string& where, const char* type) {
+  if (!d.contains(key)) missing(where + "." + key, type);
+  return d[key];
 }
 
-double number(const nb::dict& d, const char* key, const std::string& where, double dflt = NAN, bool required = false) {
-  nb::handle h = get(d, key, where, required && std::isnan(dflt));
-  if (!h.is_valid() || h.is_none()) return dflt;
-  double v;
-  if (!nb::try_cast<double>(h, v)) fail(where + "." + key, "must be a number");
-  if (!std::isfinite(v)) fail(where + "." + key, "must be finite");
+template <class T>
+T typed(const nb::dict& d, const char* key, const std::string& where, const char* type) {
+  T v;
+  if (!nb::try_cast<T>(item(d, key, where, type), v)) missing(where + "." + key, type);
   return v;
 }
 
-V3 vec3(const nb::dict& d, const char* key, const std::string& where, V3 dflt, bool required = false) {
-  nb::handle h = get(d, key, where, required);
-  if (!h.is_valid() || h.is_none()) return dflt;
-  const std::string w = where + "." + key;
+double number(const nb::dict& d, const char* key, const std::string& where) {
+  return typed<double>(d, key, where, "a number");
+}
+int integer(const nb::dict& d, const char* key, const std::string& where) {
+  return typed<int>(d, key, where, "an integer");
+}
+bool flag(const nb::dict& d, const char* key, const std::string& where) { return typed<bool>(d, key, where, "a bool"); }
+std::string text(const nb::dict& d, const char* key, const std::string& where) {
+  return typed<std::string>(d, key, where, "a string");
+}
+nb::dict table(const nb::dict& d, const char* key, const std::string& where) {
+  return typed<nb::dict>(d, key, where, "a dict");
+}
+nb::list list(const nb::dict& d, const char* key, const std::string& where) {
+  return typed<nb::list>(d, key, where, "a list");
+}
+// A key whose value may be None ("none": no image, no star field, no uvs); false then.
+bool given(const nb::dict& d, const char* key, const std::string& where) {
+  return !item(d, key, where, "present (None or a value)").is_none();
+}
+
+V3 vec3(const nb::dict& d, const char* key, const std::string& where) {
   nb::sequence seq;
-  if (!nb::try_cast<nb::sequence>(h, seq) || nb::len(seq) != 3) fail(w, "must be a list of 3 numbers");
+  if (!nb::try_cast<nb::sequence>(item(d, key, where, "a list of 3 numbers"), seq) || nb::len(seq) != 3)
+    missing(where + "." + key, "a list of 3 numbers");
   V3 v;
-  for (int i = 0; i < 3; ++i) {
-    if (!nb::try_cast<double>(seq[i], v[i]) || !std::isfinite(v[i])) fail(w, "must be a list of 3 finite numbers");
-  }
+  for (int i = 0; i < 3; ++i)
+    if (!nb::try_cast<double>(seq[i], v[i])) missing(where + "." + key, "a list of 3 numbers");
   return v;
 }
 
-// A pair of positive numbers [u, v] (checker scale, grid cells, image repeats).
-void pair(const nb::dict& d, const char* key, const std::string& where, double dflt, double& u, double& v) {
-  u = v = dflt;
-  nb::handle h = get(d, key, where, false);
-  if (!h.is_valid() || h.is_none()) return;
-  const std::string w = where + "." + key;
+// A pair [u, v] (checker scale, grid cells, image repeats).
+void pair(const nb::dict& d, const char* key, const std::string& where, double& u, double& v) {
   nb::sequence seq;
-  if (!nb::try_cast<nb::sequence>(h, seq) || nb::len(seq) != 2 || !nb::try_cast<double>(seq[0], u) ||
-      !nb::try_cast<double>(seq[1], v) || !(u > 0 && v > 0 && std::isfinite(u) && std::isfinite(v)))
-    fail(w, "must be a list of 2 positive numbers");
+  if (!nb::try_cast<nb::sequence>(item(d, key, where, "a list of 2 numbers"), seq) || nb::len(seq) != 2 ||
+      !nb::try_cast<double>(seq[0], u) || !nb::try_cast<double>(seq[1], v))
+    missing(where + "." + key, "a list of 2 numbers");
 }
 
-nb::dict sub(nb::handle h, const std::string& where) {
-  nb::dict out;
-  if (!nb::try_cast<nb::dict>(h, out)) fail(where, "must be a table (dict)");
-  return out;
-}
-
-int index(const nb::dict& d, const char* key, const std::string& where, int size, int dflt = -2) {
-  nb::handle h = get(d, key, where, dflt == -2);
-  if (!h.is_valid() || h.is_none()) return dflt;
-  int v;
-  if (!nb::try_cast<int>(h, v)) fail(where + "." + key, "must be an integer");
-  if (v < -1 || v >= size) fail(where + "." + key, "index " + std::to_string(v) + " out of range (" + std::to_string(size) + " defined)");
+// An index into a table of `size` entries, or -1 (range checked: it is used to index).
+int index(const nb::dict& d, const char* key, const std::string& where, int size) {
+  const int v = integer(d, key, where);
+  if (v < -1 || v >= size)
+    throw std::invalid_argument("native scene: " + where + "." + key + " index " + std::to_string(v) +
+                                " out of range (" + std::to_string(size) + " defined)");
   return v;
 }
 
-int sheet_of(const nb::dict& d, const std::string& where) {
-  const double s = number(d, "sheet", where, 1.0);
-  if (s != 1.0 && s != -1.0) fail(where + ".sheet", "must be +1 or -1");
-  return int(s);
-}
-
-void image_into(nb::handle h, const std::string& where, Texture& t) {
+void image_into(const nb::dict& d, const char* key, const std::string& where, Texture& t) {
   nb::ndarray<const float, nb::c_contig, nb::device::cpu> a;
-  if (!nb::try_cast(h, a) || a.ndim() != 3 || a.shape(2) != 3 || a.shape(0) < 1 || a.shape(1) < 1)
-    fail(where, "must be a C-contiguous float32 array of shape (H, W, 3)");
+  if (!nb::try_cast(item(d, key, where, "a float32 array"), a) || a.ndim() != 3 || a.shape(2) != 3 ||
+      a.shape(0) < 1 || a.shape(1) < 1)
+    missing(where + "." + key, "a C-contiguous float32 array of shape (H, W, 3)");
   t.h = int(a.shape(0));
   t.w = int(a.shape(1));
   t.rgb.assign(a.data(), a.data() + a.size());
 }
 
-// The shape's "meridian" (default +x) made perpendicular to unit axis n; any perpendicular if parallel.
+// The shape's meridian made perpendicular to unit axis n; any perpendicular if parallel.
 V3 meridian_axis(const nb::dict& t, const std::string& where, V3 n) {
-  V3 mer = vec3(t, "meridian", where, {1, 0, 0});
+  V3 mer = vec3(t, "meridian", where);
   mer = mer - n * dot(mer, n);
   if (!(length(mer) > 1e-9)) {
     V3 b;
@@ -97,151 +102,143 @@ V3 meridian_axis(const nb::dict& t, const std::string& where, V3 n) {
   return normalize(mer);
 }
 
-std::string type_of(const nb::dict& d, const std::string& where) {
-  nb::handle h = get(d, "type", where);
-  std::string s;
-  if (!nb::try_cast<std::string>(h, s)) fail(where + ".type", "must be a string");
-  return s;
-}
-
 void environment_from(const nb::dict& d, const std::string& w, Environment& env) {
-  env.color = vec3(d, "color", w, {0, 0, 0});
-  if (d.contains("image") && !d["image"].is_none()) {
+  env.color = vec3(d, "color", w);
+  if (given(d, "image", w)) {
     env.has_image = true;
     env.image.kind = TextureKind::kImage;
-    image_into(d["image"], w + ".image", env.image);
+    image_into(d, "image", w, env.image);
   }
-  if (d.contains("stars") && !d["stars"].is_none()) {
-    const nb::dict s = sub(d["stars"], w + ".stars");
-    // No defaults here: the scene compiler (warpviz's TOML reader) owns them and writes every key.
-    env.stars.density = number(s, "density", w + ".stars", NAN, true);
-    env.stars.brightness = number(s, "brightness", w + ".stars", NAN, true);
-    env.stars.size = number(s, "size", w + ".stars", NAN, true);
-    env.stars.seed = uint64_t(number(s, "seed", w + ".stars", NAN, true));
-    if (env.stars.density < 0 || env.stars.size <= 0) fail(w + ".stars", "needs density >= 0 and size > 0");
+  if (given(d, "stars", w)) {
+    const nb::dict s = table(d, "stars", w);
+    const std::string ws = w + ".stars";
+    env.stars.density = number(s, "density", ws);
+    env.stars.brightness = number(s, "brightness", ws);
+    env.stars.size = number(s, "size", ws);
+    env.stars.seed = typed<uint64_t>(s, "seed", ws, "a non-negative integer");
   }
-  if (d.contains("spots") && !d["spots"].is_none()) {
-    nb::list spots;
-    if (!nb::try_cast<nb::list>(d["spots"], spots)) fail(w + ".spots", "must be a list");
-    for (size_t i = 0; i < nb::len(spots); ++i) {
-      const std::string ws = w + ".spots[" + std::to_string(i) + "]";
-      const nb::dict s = sub(spots[i], ws);
-      Spot sp;
-      sp.direction = normalize(vec3(s, "direction", ws, {}, true));
-      if (!(length(sp.direction) > 0)) fail(ws + ".direction", "must be non-zero");
-      const double r = number(s, "radius", ws, 0.01);
-      if (!(r > 0 && r < M_PI)) fail(ws + ".radius", "must be in (0, pi)");
-      sp.cos_radius = std::cos(r);
-      sp.color = vec3(s, "color", ws, {1, 1, 1});
-      env.spots.push_back(sp);
-    }
+  const nb::list spots = list(d, "spots", w);
+  for (size_t i = 0; i < nb::len(spots); ++i) {
+    const std::string ws = w + ".spots[" + std::to_string(i) + "]";
+    nb::dict s;
+    if (!nb::try_cast<nb::dict>(spots[i], s)) missing(ws, "a dict");
+    Spot sp;
+    sp.direction = normalize(vec3(s, "direction", ws));
+    sp.cos_radius = std::cos(number(s, "radius", ws));
+    sp.color = vec3(s, "color", ws);
+    env.spots.push_back(sp);
   }
+}
+
+// Entry i of a list of tables.
+nb::dict entry(const nb::list& l, size_t i, const std::string& where) {
+  nb::dict out;
+  if (!nb::try_cast<nb::dict>(l[i], out)) missing(where, "a dict");
+  return out;
 }
 
 }  // namespace
 
-void scene_from_dict(const nb::dict& d, Scene& sc) {
-  // Camera
-  {
-    const std::string w = "camera";
-    const nb::dict c = sub(get(d, "camera", "scene"), w);
-    Camera& cam = sc.camera;
-    cam.position = vec3(c, "position", w, {}, true);
-    cam.look_at = vec3(c, "look_at", w, {}, true);
-    cam.up = vec3(c, "up", w, {0, 0, 1});
-    cam.fov = number(c, "fov", w, 40.0);
-    if (!(cam.fov > 0 && cam.fov < 180)) fail(w + ".fov", "must be in (0, 180) degrees");
-    const double W = number(c, "width", w, 64), H = number(c, "height", w, 48);
-    if (!(W >= 1 && H >= 1 && W <= 65536 && H <= 65536) || W != std::floor(W) || H != std::floor(H))
-      fail(w + ".width/height", "must be positive integers");
-    cam.width = int(W);
-    cam.height = int(H);
-    cam.sheet = sheet_of(c, w);
-    if (!(length(cam.look_at - cam.position) > 0)) fail(w + ".look_at", "must differ from camera.position");
+void metric_from_dict(const nb::dict& scene, std::string& name, std::vector<double>& params) {
+  const nb::dict md = table(scene, "metric", "scene");
+  name = text(md, "name", "metric");
+  params = typed<std::vector<double>>(md, "params", "metric", "a list of numbers");
+}
+
+void camera_from_dict(const nb::dict& c, Camera& cam, const std::string& w) {
+  cam.position = vec3(c, "position", w);
+  cam.look_at = vec3(c, "look_at", w);
+  cam.up = vec3(c, "up", w);
+  cam.fov = number(c, "fov", w);
+  cam.width = integer(c, "width", w);
+  cam.height = integer(c, "height", w);
+  cam.sheet = integer(c, "sheet", w);
+  if (cam.width < 1 || cam.height < 1) throw std::invalid_argument("native scene: " + w + ".width/height must be >= 1");
+}
+
+Material material_from_dict(const nb::dict& t, const std::string& w, int ntex) {
+  const std::string ty = text(t, "type", w);
+  Material m;
+  if (ty == "diffuse") {
+    m.kind = MaterialKind::kDiffuse;
+    m.texture = index(t, "texture", w, ntex);
+  } else if (ty == "mirror") {
+    m.kind = MaterialKind::kMirror;
+    m.tint = vec3(t, "reflectance", w);
+  } else if (ty == "glass") {
+    m.kind = MaterialKind::kGlass;
+    m.ior = number(t, "ior", w);
+    m.tint = vec3(t, "tint", w);
+  } else if (ty == "emissive") {
+    m.kind = MaterialKind::kEmissive;
+    m.texture = index(t, "texture", w, ntex);
+    m.strength = number(t, "strength", w);
+    m.two_sided = flag(t, "two_sided", w);
+    m.beaming = flag(t, "beaming", w);
+    m.keplerian = flag(t, "keplerian", w);
+    m.colour_shift = flag(t, "colour_shift", w);
+  } else {
+    throw std::invalid_argument("native scene: " + w + ".type: unknown material type '" + ty + "'");
   }
+  return m;
+}
+
+void scene_from_dict(const nb::dict& d, Scene& sc) {
+  camera_from_dict(table(d, "camera", "scene"), sc.camera);
   // Textures
-  if (d.contains("textures")) {
-    nb::list tl = nb::cast<nb::list>(d["textures"]);
-    for (size_t i = 0; i < nb::len(tl); ++i) {
-      const std::string w = "textures[" + std::to_string(i) + "]";
-      const nb::dict t = sub(tl[i], w);
-      const std::string ty = type_of(t, w);
-      Texture tex;
-      if (ty == "constant") {
-        tex.a = vec3(t, "color", w, {}, true);
-      } else if (ty == "checker") {
-        tex.kind = TextureKind::kChecker;
-        tex.a = vec3(t, "color_a", w, {}, true);
-        tex.b = vec3(t, "color_b", w, {}, true);
-        pair(t, "scale", w, 8.0, tex.su, tex.sv);
-      } else if (ty == "grid") {
-        tex.kind = TextureKind::kGrid;
-        tex.a = vec3(t, "base", w, {}, true);
-        tex.b = vec3(t, "line_u", w, {}, true);
-        tex.c = vec3(t, "line_v", w, {}, true);
-        pair(t, "cells", w, 10.0, tex.su, tex.sv);
-        tex.width = number(t, "width", w, 0.05);
-      } else if (ty == "image") {
-        tex.kind = TextureKind::kImage;
-        image_into(get(t, "data", w), w + ".data", tex);
-        pair(t, "repeat", w, 1.0, tex.su, tex.sv);
-      } else {
-        fail(w + ".type", "unknown texture type '" + ty + "' (known: constant, checker, grid, image)");
-      }
-      sc.textures.push_back(std::move(tex));
+  const nb::list tl = list(d, "textures", "scene");
+  for (size_t i = 0; i < nb::len(tl); ++i) {
+    const std::string w = "textures[" + std::to_string(i) + "]";
+    const nb::dict t = entry(tl, i, w);
+    const std::string ty = text(t, "type", w);
+    Texture tex;
+    if (ty == "constant") {
+      tex.a = vec3(t, "color", w);
+    } else if (ty == "checker") {
+      tex.kind = TextureKind::kChecker;
+      tex.a = vec3(t, "color_a", w);
+      tex.b = vec3(t, "color_b", w);
+      pair(t, "scale", w, tex.su, tex.sv);
+    } else if (ty == "grid") {
+      tex.kind = TextureKind::kGrid;
+      tex.a = vec3(t, "base", w);
+      tex.b = vec3(t, "line_u", w);
+      tex.c = vec3(t, "line_v", w);
+      pair(t, "cells", w, tex.su, tex.sv);
+      tex.width = number(t, "width", w);
+    } else if (ty == "image") {
+      tex.kind = TextureKind::kImage;
+      image_into(t, "data", w, tex);
+      pair(t, "repeat", w, tex.su, tex.sv);
+    } else {
+      throw std::invalid_argument("native scene: " + w + ".type: unknown texture type '" + ty + "'");
     }
+    sc.textures.push_back(std::move(tex));
   }
   const int ntex = int(sc.textures.size());
   // Materials
-  nb::list ml = nb::cast<nb::list>(get(d, "materials", "scene"));
+  const nb::list ml = list(d, "materials", "scene");
   for (size_t i = 0; i < nb::len(ml); ++i) {
     const std::string w = "materials[" + std::to_string(i) + "]";
-    const nb::dict t = sub(ml[i], w);
-    const std::string ty = type_of(t, w);
-    Material m;
-    if (ty == "diffuse") {
-      m.kind = MaterialKind::kDiffuse;
-      m.texture = index(t, "texture", w, ntex);
-    } else if (ty == "mirror") {
-      m.kind = MaterialKind::kMirror;
-      m.tint = vec3(t, "reflectance", w, {1, 1, 1});
-    } else if (ty == "glass") {
-      m.kind = MaterialKind::kGlass;
-      m.ior = number(t, "ior", w, 1.5);
-      if (!(m.ior >= 1.0)) fail(w + ".ior", "must be >= 1");
-      m.tint = vec3(t, "tint", w, {1, 1, 1});
-    } else if (ty == "emissive") {
-      m.kind = MaterialKind::kEmissive;
-      m.texture = index(t, "texture", w, ntex, -1);
-      m.strength = number(t, "strength", w, 1.0);
-      if (!(m.strength >= 0)) fail(w + ".strength", "must be >= 0");
-      m.two_sided = t.contains("two_sided") && nb::cast<bool>(t["two_sided"]);
-      m.beaming = t.contains("beaming") && nb::cast<bool>(t["beaming"]);
-      m.keplerian = t.contains("keplerian") && nb::cast<bool>(t["keplerian"]);
-      m.colour_shift = t.contains("colour_shift") && nb::cast<bool>(t["colour_shift"]);
-    } else {
-      fail(w + ".type", "unknown material type '" + ty + "' (known: diffuse, mirror, glass, emissive)");
-    }
-    sc.materials.push_back(m);
+    sc.materials.push_back(material_from_dict(entry(ml, i, w), w, ntex));
   }
   const int nmat = int(sc.materials.size());
   // Shapes
-  nb::list sl = nb::cast<nb::list>(get(d, "shapes", "scene"));
+  const nb::list sl = list(d, "shapes", "scene");
   for (size_t i = 0; i < nb::len(sl); ++i) {
     const std::string w = "shapes[" + std::to_string(i) + "]";
-    const nb::dict t = sub(sl[i], w);
-    const std::string ty = type_of(t, w);
+    const nb::dict t = entry(sl, i, w);
+    const std::string ty = text(t, "type", w);
     Prim pr;
     pr.material = index(t, "material", w, nmat);
-    if (pr.material < 0) fail(w + ".material", "is required");
+    if (pr.material < 0) throw std::invalid_argument("native scene: " + w + ".material must be a material's index");
     pr.shape = int32_t(i);
-    pr.sheet = int8_t(sheet_of(t, w));
+    pr.sheet = int8_t(integer(t, "sheet", w));
     if (ty == "sphere") {
       Sphere s;
-      s.center = vec3(t, "center", w, {}, true);
-      s.radius = number(t, "radius", w, NAN, true);
-      if (!(s.radius > 0)) fail(w + ".radius", "must be > 0");
-      s.pole = normalize(vec3(t, "pole", w, {0, 0, 1}));
+      s.center = vec3(t, "center", w);
+      s.radius = number(t, "radius", w);
+      s.pole = normalize(vec3(t, "pole", w));
       s.meridian = meridian_axis(t, w, s.pole);
       s.third = cross(s.pole, s.meridian);
       pr.kind = PrimKind::kSphere;
@@ -250,12 +247,11 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
       sc.prims.push_back(pr);
     } else if (ty == "quad") {
       Quad q;
-      q.corner = vec3(t, "corner", w, {}, true);
-      q.eu = vec3(t, "edge_u", w, {}, true);
-      q.ev = vec3(t, "edge_v", w, {}, true);
+      q.corner = vec3(t, "corner", w);
+      q.eu = vec3(t, "edge_u", w);
+      q.ev = vec3(t, "edge_v", w);
       const V3 c = cross(q.eu, q.ev);
       q.area = length(c);
-      if (!(q.area > 0)) fail(w, "edge_u and edge_v must span a parallelogram (non-zero, not parallel)");
       q.normal = c / q.area;
       pr.kind = PrimKind::kQuad;
       pr.index = int32_t(sc.quads.size());
@@ -263,12 +259,10 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
       sc.prims.push_back(pr);
     } else if (ty == "disk") {
       Disk k;
-      k.center = vec3(t, "center", w, {}, true);
-      k.normal = normalize(vec3(t, "normal", w, {0, 0, 1}));
-      if (!(length(k.normal) > 0)) fail(w + ".normal", "must be non-zero");
-      k.r_in = number(t, "inner_radius", w, 0.0);
-      k.r_out = number(t, "outer_radius", w, NAN, true);
-      if (!(k.r_in >= 0 && k.r_out > k.r_in)) fail(w, "needs 0 <= inner_radius < outer_radius");
+      k.center = vec3(t, "center", w);
+      k.normal = normalize(vec3(t, "normal", w));
+      k.r_in = number(t, "inner_radius", w);
+      k.r_out = number(t, "outer_radius", w);
       k.axis_u = meridian_axis(t, w, k.normal);
       k.axis_v = cross(k.normal, k.axis_u);
       pr.kind = PrimKind::kDisk;
@@ -278,20 +272,22 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
     } else if (ty == "mesh") {
       nb::ndarray<const double, nb::c_contig, nb::device::cpu> V, UV;
       nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu> F;
-      if (!nb::try_cast(get(t, "vertices", w), V) || V.ndim() != 2 || V.shape(1) != 3)
-        fail(w + ".vertices", "must be a C-contiguous float64 array of shape (V, 3)");
-      if (!nb::try_cast(get(t, "faces", w), F) || F.ndim() != 2 || F.shape(1) != 3)
-        fail(w + ".faces", "must be a C-contiguous int32 array of shape (F, 3)");
-      const bool has_uv = t.contains("uvs") && !t["uvs"].is_none();
-      if (has_uv && (!nb::try_cast(t["uvs"], UV) || UV.ndim() != 2 || UV.shape(0) != V.shape(0) || UV.shape(1) != 2))
-        fail(w + ".uvs", "must be a C-contiguous float64 array of shape (V, 2)");
+      if (!nb::try_cast(item(t, "vertices", w, "a float64 array"), V) || V.ndim() != 2 || V.shape(1) != 3)
+        missing(w + ".vertices", "a C-contiguous float64 array of shape (V, 3)");
+      if (!nb::try_cast(item(t, "faces", w, "an int32 array"), F) || F.ndim() != 2 || F.shape(1) != 3)
+        missing(w + ".faces", "a C-contiguous int32 array of shape (F, 3)");
+      const bool has_uv = given(t, "uvs", w);
+      if (has_uv && (!nb::try_cast(item(t, "uvs", w, "a float64 array"), UV) || UV.ndim() != 2 ||
+                     UV.shape(0) != V.shape(0) || UV.shape(1) != 2))
+        missing(w + ".uvs", "None or a C-contiguous float64 array of shape (V, 2)");
       const size_t nv = V.shape(0);
       const double* v = V.data();
       for (size_t f = 0; f < F.shape(0); ++f) {
         int32_t idx[3];
         for (int c = 0; c < 3; ++c) {
           idx[c] = F.data()[3 * f + c];
-          if (idx[c] < 0 || size_t(idx[c]) >= nv) fail(w + ".faces", "refers to a vertex out of range");
+          if (idx[c] < 0 || size_t(idx[c]) >= nv)
+            throw std::invalid_argument("native scene: " + w + ".faces refers to a vertex out of range");
         }
         Triangle tr;
         tr.a = V3(v + 3 * idx[0]);
@@ -311,16 +307,12 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
         sc.prims.push_back(p2);
       }
     } else {
-      fail(w + ".type", "unknown shape type '" + ty + "' (known: sphere, quad, disk, mesh)");
+      throw std::invalid_argument("native scene: " + w + ".type: unknown shape type '" + ty + "'");
     }
   }
-  // Environment(s)
-  if (d.contains("environment") && !d["environment"].is_none())
-    environment_from(sub(d["environment"], "environment"), "environment", sc.environment);
-  if (d.contains("environment_other") && !d["environment_other"].is_none())
-    environment_from(sub(d["environment_other"], "environment_other"), "environment_other", sc.environment_other);
-  else
-    sc.environment_other = sc.environment;
+  // The skies of sheet +1 and (a wormhole's) sheet -1; Python writes the same table twice for one sky.
+  environment_from(table(d, "environment", "scene"), "environment", sc.environment);
+  environment_from(table(d, "environment_other", "scene"), "environment_other", sc.environment_other);
   sc.finalize();
 }
 

@@ -22,7 +22,8 @@ namespace wv::bindings {
 
 namespace {
 
-// Test hook for the BSDFs: samples material `material` (a native material dict, constant albedo) at
+// Test hook for the BSDFs: samples material `material` (a complete native material dict, as
+// warpviz.scene.native.native_material writes it, without textures: the albedo is given) at
 // local normal n for outgoing direction wo with the given uniforms u (N, 3), and evaluates the BSDF at
 // the sampled directions and at the given directions `at` (M, 3). Returns wi (N, 3), weight (N, 3),
 // pdf (N,), delta (N,), valid (N,), f_eval (N, 3) (= BSDF |cos|, 0 for delta lobes), pdf_eval (N,),
@@ -32,18 +33,7 @@ nb::dict bsdf(nb::dict material, std::vector<double> albedo, std::vector<double>
   if (albedo.size() != 3 || n.size() != 3 || wo.size() != 3) throw std::invalid_argument("albedo, n and wo need 3 components");
   if (u.ndim() != 2 || u.shape(1) != 3) throw std::invalid_argument("u must have shape (N, 3)");
   if (at.ndim() != 2 || at.shape(1) != 3) throw std::invalid_argument("at must have shape (M, 3)");
-  nb::dict scene;
-  nb::list mats;
-  mats.append(material);
-  scene["materials"] = mats;
-  wv::Scene sc;
-  nb::dict cam;
-  cam["position"] = std::vector<double>{0, 0, 1};
-  cam["look_at"] = std::vector<double>{0, 0, 0};
-  scene["camera"] = cam;
-  scene["shapes"] = nb::list();
-  wv::scene_from_dict(scene, sc);
-  const wv::Material& m = sc.materials.at(0);
+  const wv::Material m = wv::material_from_dict(material, "material", 0);
   const wv::V3 A(albedo.data()), N = wv::normalize(wv::V3(n.data())), WO = wv::normalize(wv::V3(wo.data()));
   const size_t count = u.shape(0);
   std::vector<double> wi(3 * count), weight(3 * count), pdf(count), fe(3 * count), pe(count);

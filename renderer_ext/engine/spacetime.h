@@ -1,12 +1,16 @@
 // The run-time face of one metric with its parameters: the geometry the bindings, the test hooks and the
 // registry ask of it (inverse metric, Hamilton's equations, conserved quantities, observer frames, where a
-// ray may start, landmark radii). Tracing and rendering are not here: they are instantiated per metric and
-// stepper by engine/register.h and reached through the registry (engine/registry.h).
+// ray may start, landmark radii, the render camera's rays). Tracing and rendering are not here: they are
+// instantiated per metric and stepper by engine/register.h and reached through the registry
+// (engine/registry.h).
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
+#include "integrators/camera.h"
+#include "scene/scene.h"
 #include "spacetime/bundle.h"
 #include "spacetime/frame.h"
 #include "spacetime/landmarks.h"
@@ -28,6 +32,10 @@ class Spacetime {
   virtual std::string origin_problem(const double pos[3], int sheet) const = 0;
   // Initial state for a ray starting at pos (user frame) along unit direction dir of the local observer.
   virtual bool initial_state(const double pos[3], const double dir[3], int sheet, double y[8]) const = 0;
+  // The render camera c (integrators/camera.h): its viewing frame in the local observer's frame at its
+  // position (frame: rows forward, right, up) and the directions of its rays through the n continuous pixel
+  // coordinates xy (x right, y down; dirs: n rows). Throws where the camera cannot be (inside a horizon).
+  virtual void camera_rays(const Camera& c, const double* xy, size_t n, double frame[9], double* dirs) const = 0;
   // The local observer's frame at chart point x (closed form where the metric has one, or the generic
   // construction); false where there is none.
   virtual bool observer_frame(const double x[4], bool generic, ObserverFrame& f) const = 0;
@@ -54,6 +62,16 @@ class SpacetimeImpl final : public Spacetime {
   }
   bool initial_state(const double pos[3], const double dir[3], int sheet, double y[8]) const override {
     return photon_state(m_, pos, dir, sheet, y);
+  }
+  void camera_rays(const Camera& c, const double* xy, size_t n, double frame[9], double* dirs) const override {
+    const CameraRays<M> rays(m_, c);
+    const V3 axes[3] = {rays.forward(), rays.right(), rays.up()};
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) frame[3 * a + k] = axes[a][k];
+    for (size_t i = 0; i < n; ++i) {
+      const V3 d = rays.direction_at(xy[2 * i], xy[2 * i + 1]);
+      for (int k = 0; k < 3; ++k) dirs[3 * i + k] = d[k];
+    }
   }
   bool observer_frame(const double x[4], bool generic, ObserverFrame& f) const override {
     return generic ? observer_frame_generic(m_, x, f) : wv::observer_frame(m_, x, f);

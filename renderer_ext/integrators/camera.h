@@ -1,6 +1,6 @@
 // The camera of a render: its viewing frame as measured by the observer at the camera (forward, right and
 // up in that observer's local frame), the start frame all camera rays share, and the jittered direction of
-// a pixel's camera ray (the same pinhole as warpviz/scene/camera.py in flat space).
+// a pixel's camera ray (warpviz/scene/camera.py reaches it through the binding camera_rays).
 #pragma once
 
 #include <cmath>
@@ -41,12 +41,25 @@ class CameraRays {
 
   // Local-frame direction of a camera ray through pixel (px, py), jittered by the next two numbers of rng.
   V3 direction(int px, int py, Rng& rng) const {
+    const double x = px + rng.uniform();
+    const double y = py + rng.uniform();
+    return direction_at(x, y);
+  }
+
+  // Local-frame direction of the camera ray through continuous pixel coordinates (x, y): x to the right
+  // and y down from the image's top-left corner, pixel (px, py) covering [px, px + 1) x [py, py + 1).
+  V3 direction_at(double x, double y) const {
     const Camera& cam = c_;
     const double aspect = double(cam.width) / cam.height;
-    const double sx = (2.0 * (px + rng.uniform()) / cam.width - 1.0) * tan_half_ * aspect;
-    const double sy = (1.0 - 2.0 * (py + rng.uniform()) / cam.height) * tan_half_;
+    const double sx = (2.0 * x / cam.width - 1.0) * tan_half_ * aspect;
+    const double sy = (1.0 - 2.0 * y / cam.height) * tan_half_;
     return normalize(forward_ + right_ * sx + up_ * sy);
   }
+
+  // The viewing frame in the local observer's frame at the camera.
+  V3 forward() const { return forward_; }
+  V3 right() const { return right_; }
+  V3 up() const { return up_; }
 
  private:
   const Camera& c_;

@@ -15,12 +15,14 @@ namespace wv {
 
 enum class MaterialKind { kDiffuse, kMirror, kGlass, kEmissive };
 
+// The fields of its kind are set from the native scene dict (bindings/scene_dict.cpp); the defaults of
+// the optional ones live in Python (warpviz/scene/native.py), not here.
 struct Material {
   MaterialKind kind = MaterialKind::kDiffuse;
-  int texture = -1;      // diffuse albedo / emitted colour
-  V3 tint{1, 1, 1};      // mirror reflectance, glass transmittance
-  double ior = 1.5;
-  double strength = 1.0;  // emission scale
+  int texture = -1;      // diffuse albedo / emitted colour (-1: none)
+  V3 tint{0, 0, 0};      // mirror reflectance, glass transmittance
+  double ior = 0.0;
+  double strength = 0.0;  // emission scale
   bool two_sided = false;
   bool beaming = false;    // emission scaled by g^4 (Doppler + gravitational shift of the emitter)
   bool keplerian = false;  // the emitter orbits prograde about +z (accretion disk) instead of being static

@@ -14,11 +14,13 @@
 
 namespace wv {
 
+// Set in full from the native scene dict (bindings/scene_dict.cpp); its defaults live in Python
+// (warpviz/scene/native.py), not here.
 struct Camera {
-  V3 position{0, 0, 0}, look_at{0, 0, -1}, up{0, 0, 1};
-  double fov = 40.0;  // vertical, degrees
-  int width = 64, height = 48;
-  int sheet = 1;
+  V3 position{0, 0, 0}, look_at{0, 0, 0}, up{0, 0, 0};
+  double fov = 0.0;  // vertical, degrees
+  int width = 0, height = 0;
+  int sheet = 0;
 };
 
 class Scene {

@@ -14,7 +14,7 @@ struct Texture {
   TextureKind kind = TextureKind::kConstant;
   V3 a{1, 1, 1}, b{0, 0, 0}, c{0, 0, 0};  // constant: a; checker: a, b; grid: base a, u-lines b, v-lines c
   double su = 1, sv = 1;                   // checker: checks; grid: cells; image: repeats
-  double width = 0.05;                     // grid line width (fraction of a cell)
+  double width = 0.0;                      // grid line width (fraction of a cell)
   int w = 0, h = 0;                        // image size
   std::vector<float> rgb;                  // image, row 0 at v = 1
 

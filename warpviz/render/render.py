@@ -33,6 +33,7 @@ import numpy as np
 
 from warpviz._native import core
 from warpviz.render.image import Image
+from warpviz.scene.native import native_scene
 from warpviz.spacetime import metric_from_params
 from warpviz.tracing import STEPPERS, RayBundle, default_max_drift, recorded_point_data
 
@@ -269,7 +270,7 @@ def _resolve(scene, *, flat: bool, width, height, paper: bool) -> tuple[dict, di
             native["camera"]["height"] = _positive_int("height", height)
         if flat:
             native["metric"] = {"name": "minkowski", "params": []}
-        return native, options, None
+        return native_scene(native), options, None  # checked, every optional key filled in
     from warpviz.scene import Scene, load_scene
 
     if isinstance(scene, (str, os.PathLike)):

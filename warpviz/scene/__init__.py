@@ -10,11 +10,13 @@ Modules, by concern:
 * :mod:`~warpviz.scene.reader` -- :class:`SceneError` and the checks behind every message, with
   :mod:`~warpviz.scene._toml_positions` finding the line and column of a key;
 * :mod:`~warpviz.scene.model` -- :class:`Scene` and its native scene dict;
+* :mod:`~warpviz.scene.native` -- :func:`native_scene`: the one validator of a native scene dict, by
+  hand or from a file, which writes every key (its ``SCHEMA`` holds the only defaults);
 * :mod:`~warpviz.scene.settings`, :mod:`~warpviz.scene.appearance`, :mod:`~warpviz.scene.objects` --
   the compilers of the scene tables to native scene entries;
 * :mod:`~warpviz.scene.catalog` (the shipped scenes), :mod:`~warpviz.scene.textures` (texture images),
   :mod:`~warpviz.scene.primitives` (boxes, cylinders, transforms), :mod:`~warpviz.scene.camera` (the
-  pinhole camera, as the renderer's) and :mod:`~warpviz.scene.surfaces` (display meshes of the shapes
+  pinhole camera: the renderer's, from the core) and :mod:`~warpviz.scene.surfaces` (display meshes of the shapes
   and the camera).
 
 Examples
@@ -35,6 +37,7 @@ from warpviz.scene.camera import camera_basis, flat_camera_ray, pinhole_directio
 from warpviz.scene.catalog import looks_like_path, resolve_scene, scene_description, scene_dirs, shipped_scenes
 from warpviz.scene.loader import FORMAT_VERSION, load_scene
 from warpviz.scene.model import DEFAULT_SIZE, RENDER_OPTION_KEYS, Scene
+from warpviz.scene.native import native_scene
 from warpviz.scene.objects import MESH_SUFFIXES
 from warpviz.scene.reader import SceneError, key_name
 from warpviz.scene.settings import AOV_NAMES
@@ -50,6 +53,7 @@ __all__ = [
     "SceneError",
     "key_name",
     "load_scene",
+    "native_scene",
     "looks_like_path",
     "resolve_scene",
     "scene_description",

@@ -16,12 +16,16 @@ from typing import Any
 import numpy as np
 
 from warpviz.scene import textures
+from warpviz.scene.native import SCHEMA
 from warpviz.scene.reader import _describe, _Reader, key_name
+
+# Defaults of keys that map one to one onto native keys are the native scene's (warpviz.scene.native).
+_ENV, _SPOT, _TEX, _MAT = SCHEMA["environment"], SCHEMA["spots"], SCHEMA["textures"], SCHEMA["materials"]
 
 
 def _environment(r: _Reader, path: tuple, tbl: Any) -> dict:
     r.table(path, tbl, ("color", "image", "stars", "spots"))
-    env = {"color": r.color(tbl, path, "color", [0.0, 0.0, 0.0]), "image": None, "stars": None, "spots": []}
+    env = {"color": r.color(tbl, path, "color", _ENV["color"]), "image": None, "stars": None, "spots": []}
     if "image" in tbl:
         file = r.file(tbl, path, "image", kind="image", suffixes=textures.IMAGE_SUFFIXES)
         env["image"] = _load_image(r, path + ("image",), file)
@@ -33,7 +37,7 @@ def _environment(r: _Reader, path: tuple, tbl: Any) -> dict:
             "density": r.real(stars, sp, "density", 2000.0, lo=0.0),
             "brightness": r.real(stars, sp, "brightness", 20.0, lo=0.0, lo_open=False),
             "size": r.real(stars, sp, "size", 0.002, lo=0.0, hi=0.1),
-            "seed": r.integer(stars, sp, "seed", 7, lo=0),
+            "seed": r.integer(stars, sp, "seed", 7, lo=0, hi=2**53),
         }
     spots = tbl.get("spots", [])
     if not isinstance(spots, list):
@@ -45,8 +49,8 @@ def _environment(r: _Reader, path: tuple, tbl: Any) -> dict:
         d = np.asarray(r.vec3(spot, sp, "direction", nonzero=True))
         env["spots"].append({
             "direction": (d / np.linalg.norm(d)).tolist(),
-            "radius": r.real(spot, sp, "radius", 0.01, lo=0.0, hi=math.pi),
-            "color": r.color(spot, sp, "color", [1.0, 1.0, 1.0]),
+            "radius": r.real(spot, sp, "radius", _SPOT["radius"], lo=0.0, hi=math.pi),
+            "color": r.color(spot, sp, "color", _SPOT["color"]),
         })  # fmt: skip
     return env
 
@@ -91,16 +95,16 @@ def _texture(r: _Reader, tp: tuple, kind: str, t: dict) -> dict:
         return {
             "type": "checker", "color_a": r.color(t, tp, "color_a", [0.8, 0.8, 0.8]),
             "color_b": r.color(t, tp, "color_b", [0.2, 0.2, 0.2]),
-            "scale": r.numbers(t, tp, "scale", 2, [8.0, 8.0], lo=0.0, lo_open=True),
+            "scale": r.numbers(t, tp, "scale", 2, _TEX["checker"]["scale"], lo=0.0, lo_open=True),
         }  # fmt: skip
     if kind == "grid":
         return {
             "type": "grid", "base": r.color(t, tp, "base", [1.0, 1.0, 1.0]),
             "line_u": r.color(t, tp, "line_u", [0.0, 0.0, 0.0]), "line_v": r.color(t, tp, "line_v", [0.0, 0.0, 0.0]),
-            "cells": r.numbers(t, tp, "cells", 2, [10, 10], integer=True, lo=1),
-            "width": r.real(t, tp, "width", 0.05, lo=0.0, hi=1.0),
+            "cells": r.numbers(t, tp, "cells", 2, _TEX["grid"]["cells"], integer=True, lo=1),
+            "width": r.real(t, tp, "width", _TEX["grid"]["width"], lo=0.0, hi=1.0),
         }  # fmt: skip
-    repeat = r.numbers(t, tp, "repeat", 2, [1.0, 1.0], lo=0.0, lo_open=True)
+    repeat = r.numbers(t, tp, "repeat", 2, _TEX["image"]["repeat"], lo=0.0, lo_open=True)
     if kind == "image":
         file = r.file(t, tp, "file", kind="image", suffixes=textures.IMAGE_SUFFIXES)
         srgb = r.boolean(t, tp, "srgb", None) if "srgb" in t else None
@@ -157,18 +161,17 @@ def _materials(r: _Reader, tbl: Any, tex_list: list, tex_index: dict) -> tuple[l
         if kind == "diffuse":
             mat = {"type": "diffuse", "texture": texture_ref(m, mp, albedo=True, default_color=[0.8, 0.8, 0.8])}
         elif kind == "mirror":
-            mat = {"type": "mirror", "reflectance": r.color(m, mp, "reflectance", [1.0, 1.0, 1.0], albedo=True)}
+            mat = {"type": "mirror", "reflectance": r.color(m, mp, "reflectance", _MAT["mirror"]["reflectance"], albedo=True)}
         elif kind == "glass":
-            mat = {"type": "glass", "ior": r.real(m, mp, "ior", 1.5, lo=1.0, hi=4.0, lo_open=False),
-                   "tint": r.color(m, mp, "tint", [1.0, 1.0, 1.0], albedo=True)}  # fmt: skip
+            glass = _MAT["glass"]
+            mat = {"type": "glass", "ior": r.real(m, mp, "ior", glass["ior"], lo=1.0, hi=4.0, lo_open=False),
+                   "tint": r.color(m, mp, "tint", glass["tint"], albedo=True)}  # fmt: skip
         else:
+            emissive = _MAT["emissive"]
             mat = {
                 "type": "emissive", "texture": texture_ref(m, mp, albedo=False, default_color=[1.0, 1.0, 1.0]),
-                "strength": r.real(m, mp, "strength", 1.0, lo=0.0, lo_open=False),
-                "two_sided": r.boolean(m, mp, "two_sided", False),
-                "keplerian": r.boolean(m, mp, "keplerian", False),
-                "beaming": r.boolean(m, mp, "beaming", False),
-                "colour_shift": r.boolean(m, mp, "colour_shift", False),
+                "strength": r.real(m, mp, "strength", emissive["strength"], lo=0.0, lo_open=False),
+                **{k: r.boolean(m, mp, k, emissive[k]) for k in ("two_sided", "keplerian", "beaming", "colour_shift")},
             }  # fmt: skip
         index[name] = len(out)
         out.append(mat)

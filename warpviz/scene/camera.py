@@ -1,15 +1,16 @@
 """The flat-space pinhole camera of a native scene: which straight line each pixel looks along.
 
-The renderer starts a pixel's camera ray from ``camera["position"]`` along
+The camera is the renderer's own (``renderer_ext/integrators/camera.h``), reached through the core's
+``camera_rays``: nothing here repeats its arithmetic. A pixel's camera ray starts at
+``camera["position"]`` along
 
     d = normalize(forward + sx right + sy up),
     sx = (2 (x + u) / W - 1) tan(fov / 2) W / H,    sy = (1 - 2 (y + v) / H) tan(fov / 2),
 
-with (u, v) the sample's jitter in [0, 1)² (``renderer_ext/integrators/camera.h``), pixel (0, 0) the
-top-left one, ``forward`` towards ``look_at`` and ``right = forward × up``. In curved space that direction
-is measured by the local static observer and the ray then bends; in flat space it is the straight line
-drawn here (jitter (1/2, 1/2): the pixel centre), the comparison the teaching view shows beside the bent
-ray.
+with (u, v) the sample's jitter in [0, 1)², pixel (0, 0) the top-left one, ``forward`` towards
+``look_at`` and ``right = forward × up``. In curved space that direction is measured by the local static
+observer and the ray then bends; in flat space it is the straight line drawn here (jitter (1/2, 1/2): the
+pixel centre), the comparison the teaching view shows beside the bent ray.
 
 Examples
 --------
@@ -28,17 +29,17 @@ from typing import Any
 
 import numpy as np
 
+from warpviz._native import core
+from warpviz.scene.native import native_camera
+
 __all__ = ["camera_basis", "flat_camera_ray", "pinhole_directions"]
 
 
-def _vec(camera: Mapping[str, Any], key: str, default=None) -> np.ndarray:
-    value = camera.get(key, default)
-    if value is None:
-        raise ValueError(f"camera: missing key {key!r}")
-    vec = np.asarray(value, dtype=np.float64)
-    if vec.shape != (3,) or not np.all(np.isfinite(vec)):
-        raise ValueError(f"camera: {key} must be 3 finite numbers, got {value!r}")
-    return vec
+def _camera_rays(camera: Mapping[str, Any], xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The core's flat-space camera: frame rows (forward, right, up) and directions through xy (K, 2).
+    Flat space has one sheet: a camera on a wormhole's other sheet is drawn in that sheet's own frame."""
+    flat = dict(native_camera(camera), sheet=1)
+    return core.camera_rays("minkowski", [], flat, np.ascontiguousarray(xy, dtype=np.float64))
 
 
 def camera_basis(camera: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -47,7 +48,8 @@ def camera_basis(camera: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray, np.
     Parameters
     ----------
     camera : dict
-        ``position``, ``look_at``, optional ``up`` (default +z), as in ``docs/native-scene.md``.
+        A native scene camera (``docs/native-scene.md``): ``position``, ``look_at``, ``width``,
+        ``height``, optional ``up`` (default +z), ``fov``, ``sheet``.
 
     Returns
     -------
@@ -57,18 +59,11 @@ def camera_basis(camera: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray, np.
     Raises
     ------
     ValueError
-        ``look_at`` equals ``position`` or ``up`` is parallel to the view direction.
+        A missing or invalid key, ``look_at`` equal to ``position``, or ``up`` parallel to the view
+        direction.
     """
-    position = _vec(camera, "position")
-    forward = _vec(camera, "look_at") - position
-    if not np.linalg.norm(forward) > 0.0:
-        raise ValueError("camera: look_at must differ from position")
-    forward /= np.linalg.norm(forward)
-    right = np.cross(forward, _vec(camera, "up", (0.0, 0.0, 1.0)))
-    if not np.linalg.norm(right) > 1e-12:
-        raise ValueError("camera: up must not be parallel to the view direction")
-    right /= np.linalg.norm(right)
-    return forward, right, np.cross(right, forward)
+    frame, _ = _camera_rays(camera, np.zeros((0, 2)))
+    return frame[0].copy(), frame[1].copy(), frame[2].copy()
 
 
 def pinhole_directions(camera: Mapping[str, Any], pixels, *, jitter=(0.5, 0.5)) -> np.ndarray:
@@ -87,20 +82,10 @@ def pinhole_directions(camera: Mapping[str, Any], pixels, *, jitter=(0.5, 0.5)) 
     Returns
     -------
     numpy.ndarray, shape (K, 3), float64
-        Unit vectors in the user frame.
+        Unit vectors in the user frame, bit for bit the renderer's (flat space, the same jitter).
     """
-    forward, right, up = camera_basis(camera)
-    width, height, fov = int(camera["width"]), int(camera["height"]), float(camera.get("fov", 40.0))
-    if width <= 0 or height <= 0:
-        raise ValueError(f"camera: width and height must be positive, got {width} x {height}")
-    if not 0.0 < fov < 180.0:
-        raise ValueError(f"camera: fov must be in (0, 180) degrees, got {fov!r}")
-    xy = np.asarray(pixels, dtype=np.float64).reshape(-1, 2)
-    tan_half = math.tan(math.radians(fov) / 2.0)
-    sx = (2.0 * (xy[:, 0] + jitter[0]) / width - 1.0) * tan_half * width / height
-    sy = (1.0 - 2.0 * (xy[:, 1] + jitter[1]) / height) * tan_half
-    d = forward[None, :] + sx[:, None] * right[None, :] + sy[:, None] * up[None, :]
-    return d / np.linalg.norm(d, axis=1, keepdims=True)
+    xy = np.asarray(pixels, dtype=np.float64).reshape(-1, 2) + np.asarray(jitter, dtype=np.float64)
+    return _camera_rays(camera, xy)[1]
 
 
 def flat_camera_ray(camera: Mapping[str, Any], x: float, y: float, *, length: float) -> np.ndarray:
@@ -123,5 +108,5 @@ def flat_camera_ray(camera: Mapping[str, Any], x: float, y: float, *, length: fl
     length = float(length)
     if not (length > 0.0 and math.isfinite(length)):
         raise ValueError(f"length must be a positive finite distance, got {length!r}")
-    start = _vec(camera, "position")
+    start = np.asarray(native_camera(camera)["position"], dtype=np.float64)
     return np.stack([start, start + length * pinhole_directions(camera, [x, y])[0]])

@@ -2,7 +2,7 @@
 
 A Scene holds what a scene file describes with every name resolved and every image and mesh loaded;
 :meth:`Scene.native` hands the renderer the plain dictionary of ``docs/native-scene.md`` (a fresh copy
-each call, optionally in flat space or at another size). Scenes are built by
+each call, optionally in flat space or at another size), completed by :mod:`warpviz.scene.native`. Scenes are built by
 :func:`~warpviz.scene.loader.load_scene` (a TOML file) or :meth:`Scene.from_dict`.
 
 Examples
@@ -23,6 +23,7 @@ import numbers
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from warpviz.scene.native import native_scene
 from warpviz.scene.reader import _Reader
 from warpviz.spacetime import Metric
 
@@ -135,8 +136,9 @@ class Scene:
         Returns
         -------
         dict
-            ``metric``, ``camera``, ``textures``, ``materials``, ``shapes``, ``environment`` and, for a
-            wormhole with a sky of its own on the other side, ``environment_other``.
+            ``metric``, ``camera``, ``textures``, ``materials``, ``shapes``, ``environment`` and
+            ``environment_other`` (a wormhole's other sky; otherwise the same dict as ``environment``),
+            every key written (:func:`warpviz.scene.native.native_scene`).
         """
         w, h = self.size(paper=paper)
         for name, value in (("width", width), ("height", height)):
@@ -157,17 +159,15 @@ class Scene:
             camera["sheet"] = 1
         else:
             metric = {"name": self.metric.name, "params": list(self.metric.param_values)}
-        out = {
+        return native_scene({
             "metric": metric,
             "camera": camera,
             "textures": copy.deepcopy(self._textures),
             "materials": copy.deepcopy(self._materials),
             "shapes": shapes,
             "environment": environment,
-        }
-        if other is not None:
-            out["environment_other"] = other
-        return out
+            "environment_other": other,
+        })  # fmt: skip
 
     def summary(self) -> str:
         """One line: metric, image size, shapes and lights."""

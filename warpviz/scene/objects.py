@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from warpviz.scene import primitives
+from warpviz.scene.native import SCHEMA
 from warpviz.scene.reader import _describe, _Reader, key_name
 from warpviz.scene.settings import _sheet
 
@@ -64,9 +65,10 @@ def _not_parallel(r: _Reader, kp: tuple, a, b, what: str) -> None:
 
 
 def _shape(r: _Reader, op: tuple, kind: str, o: dict) -> list[dict]:
+    native = SCHEMA["shapes"].get(kind, {})  # the defaults of keys that native shapes have
     if kind == "sphere":
-        pole = r.vec3(o, op, "pole", [0.0, 0.0, 1.0], nonzero=True)
-        meridian = r.vec3(o, op, "meridian", [1.0, 0.0, 0.0], nonzero=True)
+        pole = r.vec3(o, op, "pole", native["pole"], nonzero=True)
+        meridian = r.vec3(o, op, "meridian", native["meridian"], nonzero=True)
         _not_parallel(r, op + ("meridian",), meridian, pole, "the pole")
         return [{"type": "sphere", "center": r.vec3(o, op, "center"), "radius": r.real(o, op, "radius", lo=0.0),
                  "pole": pole, "meridian": meridian}]  # fmt: skip
@@ -80,10 +82,10 @@ def _shape(r: _Reader, op: tuple, kind: str, o: dict) -> list[dict]:
         quads = primitives.box_quads(center=r.vec3(o, op, "center"), size=size, rotate=rotate)
         return [{"type": "quad", **q} for q in quads]
     if kind == "disk":
-        normal = r.vec3(o, op, "normal", [0.0, 0.0, 1.0], nonzero=True)
-        meridian = r.vec3(o, op, "meridian", [1.0, 0.0, 0.0], nonzero=True)
+        normal = r.vec3(o, op, "normal", native["normal"], nonzero=True)
+        meridian = r.vec3(o, op, "meridian", native["meridian"], nonzero=True)
         _not_parallel(r, op + ("meridian",), meridian, normal, "the normal")
-        inner = r.real(o, op, "inner_radius", 0.0, lo=0.0, lo_open=False)
+        inner = r.real(o, op, "inner_radius", native["inner_radius"], lo=0.0, lo_open=False)
         outer = r.real(o, op, "outer_radius", lo=inner)
         return [{"type": "disk", "center": r.vec3(o, op, "center"), "normal": normal, "inner_radius": inner,
                  "outer_radius": outer, "meridian": meridian}]  # fmt: skip

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from warpviz._native import core, registered_metrics
+from warpviz.scene.native import SCHEMA
 from warpviz.scene.reader import _describe, _Reader, key_name
 from warpviz.spacetime import Metric, metric_from_dict
 from warpviz.tracing import STEPPERS
@@ -49,11 +50,12 @@ def _metric(r: _Reader, tbl: Any) -> Metric:
 def _camera(r: _Reader, tbl: Any, metric: Metric) -> dict:
     path = ("camera",)
     r.table(path, tbl, ("position", "look_at", "up", "fov", "sheet"), required=("position",))
+    native = SCHEMA["camera"]  # the defaults of keys the native camera has; look_at is the file's own
     cam = {
         "position": r.vec3(tbl, path, "position"),
         "look_at": r.vec3(tbl, path, "look_at", [0.0, 0.0, 0.0]),
-        "up": r.vec3(tbl, path, "up", [0.0, 0.0, 1.0], nonzero=True),
-        "fov": r.real(tbl, path, "fov", 40.0, lo=0.0, hi=180.0),
+        "up": r.vec3(tbl, path, "up", native["up"], nonzero=True),
+        "fov": r.real(tbl, path, "fov", native["fov"], lo=0.0, hi=180.0),
         "sheet": _sheet(r, tbl, path, ellis=metric.sheets == 2),
     }
     forward = np.subtract(cam["look_at"], cam["position"])
@@ -70,7 +72,7 @@ def _camera(r: _Reader, tbl: Any, metric: Metric) -> dict:
 
 
 def _sheet(r: _Reader, tbl: dict, path: tuple, *, ellis: bool) -> int:
-    sheet = r.integer(tbl, path, "sheet", 1)
+    sheet = r.integer(tbl, path, "sheet", SCHEMA["camera"]["sheet"])  # a shape's default sheet is the same
     if sheet not in (1, -1):
         raise r.error(path + ("sheet",), f"{key_name(path + ('sheet',))} must be 1 or -1, got {sheet}")
     if sheet == -1 and not ellis:

@@ -16,6 +16,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from warpviz.scene.camera import camera_basis
+from warpviz.scene.native import SCHEMA, native_camera
 from warpviz.spacetime._meshes import _check_resolution, _join, _Piece, _revolve, _theta
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -53,8 +55,9 @@ def _sphere_piece(name: str, shape: Mapping[str, Any], resolution: int) -> _Piec
     radius = float(shape["radius"])
     if not radius > 0.0:
         raise ValueError(f"{name}: radius must be > 0, got {radius!r}")
-    frame = _frame(_vector(name, "pole", shape.get("pole", (0, 0, 1))),
-                   _vector(name, "meridian", shape.get("meridian", (1, 0, 0))))  # fmt: skip
+    defaults = SCHEMA["shapes"]["sphere"]
+    frame = _frame(_vector(name, "pole", shape.get("pole", defaults["pole"])),
+                   _vector(name, "meridian", shape.get("meridian", defaults["meridian"])))  # fmt: skip
     theta = _theta(resolution)
     rho = radius * np.sin(theta)
     rho[[0, -1]] = 0.0
@@ -64,11 +67,12 @@ def _sphere_piece(name: str, shape: Mapping[str, Any], resolution: int) -> _Piec
 
 def _disk_piece(name: str, shape: Mapping[str, Any], resolution: int) -> _Piece:
     center = _vector(name, "center", shape["center"])
-    r_in, r_out = float(shape.get("inner_radius", 0.0)), float(shape["outer_radius"])
+    defaults = SCHEMA["shapes"]["disk"]
+    r_in, r_out = float(shape.get("inner_radius", defaults["inner_radius"])), float(shape["outer_radius"])
     if not 0.0 <= r_in < r_out:
         raise ValueError(f"{name}: need 0 <= inner_radius < outer_radius, got {r_in!r}, {r_out!r}")
-    frame = _frame(_vector(name, "normal", shape["normal"]),
-                   _vector(name, "meridian", shape.get("meridian", (1, 0, 0))))  # fmt: skip
+    frame = _frame(_vector(name, "normal", shape.get("normal", defaults["normal"])),
+                   _vector(name, "meridian", shape.get("meridian", defaults["meridian"])))  # fmt: skip
     rho = np.linspace(r_in, r_out, 5)
     piece = _revolve(rho, np.zeros_like(rho), n_phi=resolution)
     return _Piece(center + piece.points @ frame, piece.sizes, piece.conn)
@@ -152,7 +156,7 @@ def scene_surfaces(native_scene: Mapping[str, Any], *, resolution: int = 48) -> 
         conn.append(piece.conn + offset)
         material.append(np.full(n_faces, shape.get("material", -1), dtype=np.int32))
         index.append(np.full(n_faces, i, dtype=np.int32))
-        sheet.append(np.full(n_faces, shape.get("sheet", 1), dtype=np.int8))
+        sheet.append(np.full(n_faces, shape.get("sheet", SCHEMA["shapes"][kind]["sheet"]), dtype=np.int8))
         offset += piece.points.shape[0]
 
     mesh = _Piece(np.concatenate(points) if points else np.zeros((0, 3)), _join(sizes), _join(conn)).polydata()
@@ -175,8 +179,8 @@ def camera_frustum(camera: Mapping[str, Any], *, length: float | None = None) ->
     Parameters
     ----------
     camera : dict
-        ``position``, ``look_at``, ``up`` (3-vectors), ``fov`` (degrees, vertical), ``width`` and
-        ``height`` (pixels), optional ``sheet`` (see ``docs/native-scene.md``).
+        A native scene camera (``docs/native-scene.md``): ``position``, ``look_at`` (3-vectors), ``width``
+        and ``height`` (pixels), optional ``up``, ``fov`` (degrees, vertical) and ``sheet``.
     length : float, optional, keyword-only
         Distance from the apex to the base; default the distance to ``look_at``.
 
@@ -195,23 +199,11 @@ def camera_frustum(camera: Mapping[str, Any], *, length: float | None = None) ->
     """
     import pyvista as pv
 
-    position = _vector("camera", "position", camera["position"])
-    forward = _vector("camera", "look_at", camera["look_at"]) - position
-    distance = float(np.linalg.norm(forward))
-    if distance == 0.0:
-        raise ValueError("camera: look_at must differ from position")
-    forward /= distance
-    up = _vector("camera", "up", camera["up"])
-    right = np.cross(forward, up)
-    if np.linalg.norm(right) < 1e-12 * max(np.linalg.norm(up), 1e-300):
-        raise ValueError("camera: up must not be parallel to the view direction")
-    right /= np.linalg.norm(right)
-    true_up = np.cross(right, forward)
-    fov, width, height = float(camera["fov"]), int(camera["width"]), int(camera["height"])
-    if not 0.0 < fov < 180.0:
-        raise ValueError(f"camera: fov must be in (0, 180) degrees, got {fov!r}")
-    if width <= 0 or height <= 0:
-        raise ValueError(f"camera: width and height must be positive, got {width} x {height}")
+    camera = native_camera(camera)
+    forward, right, true_up = camera_basis(camera)  # the renderer's (and checks up against the view)
+    position = np.asarray(camera["position"], dtype=np.float64)
+    distance = float(np.linalg.norm(np.subtract(camera["look_at"], position)))
+    fov, width, height = camera["fov"], camera["width"], camera["height"]
     length = distance if length is None else float(length)
     if not (length > 0.0 and math.isfinite(length)):
         raise ValueError(f"length must be a positive finite distance, got {length!r}")
@@ -227,5 +219,5 @@ def camera_frustum(camera: Mapping[str, Any], *, length: float | None = None) ->
     frustum.field_data["fov"] = np.array([fov])
     frustum.field_data["width"] = np.array([width])
     frustum.field_data["height"] = np.array([height])
-    frustum.field_data["sheet"] = np.array([int(camera.get("sheet", 1))])
+    frustum.field_data["sheet"] = np.array([camera["sheet"]])
     return frustum

@@ -10,6 +10,9 @@ from typing import Any
 import numpy as np
 
 from warpviz.render import tonemap
+from warpviz.scene.native import SCHEMA
+
+_MATERIALS = SCHEMA["materials"]  # the native defaults of keys a hand-built scene may leave out
 
 _MATERIAL_TYPE_COLOR = {"diffuse": (0.75, 0.75, 0.75), "mirror": (0.7, 0.75, 0.85), "glass": (0.6, 0.85, 0.95),
                         "emissive": (1.0, 0.9, 0.4)}  # fmt: skip
@@ -71,12 +74,13 @@ def _material_colors(native_scene: Mapping[str, Any] | None, material_types) -> 
             if kind == "diffuse":
                 out.append(_texture_color(tex))
             elif kind == "emissive":
-                c = _texture_color(tex) * float(m.get("strength", 1.0))
+                c = _texture_color(tex) * float(m.get("strength", _MATERIALS["emissive"]["strength"]))
                 out.append(c / max(float(c.max()), 1e-12))
             elif kind == "mirror":
-                out.append(0.5 + 0.4 * np.asarray(m.get("reflectance", [1, 1, 1]), dtype=np.float64))
+                out.append(0.5 + 0.4 * np.asarray(m.get("reflectance", _MATERIALS["mirror"]["reflectance"]), dtype=np.float64))
             elif kind == "glass":
-                out.append(0.3 * np.asarray(m.get("tint", [1, 1, 1]), dtype=np.float64) + np.array([0.4, 0.6, 0.7]))
+                tint = m.get("tint", _MATERIALS["glass"]["tint"])
+                out.append(0.3 * np.asarray(tint, dtype=np.float64) + np.array([0.4, 0.6, 0.7]))
             else:
                 out.append(np.full(3, 0.75))
         return np.array(out, dtype=np.float64).reshape(-1, 3)

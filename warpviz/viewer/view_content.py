@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from warpviz.render import Image
+from warpviz.scene.native import SCHEMA
 from warpviz.spacetime import Metric
 from warpviz.tracing import RayBundle
 from warpviz.viewer.picking import sparse_pixel_grid
@@ -102,7 +103,7 @@ def camera_from_frustum(frustum) -> dict:
         "fov": float(np.asarray(fields["fov"])[0]),
         "width": int(np.asarray(fields["width"])[0]),
         "height": int(np.asarray(fields["height"])[0]),
-        "sheet": int(np.asarray(fields["sheet"])[0]) if "sheet" in fields else 1,
+        "sheet": int(np.asarray(fields["sheet"])[0]) if "sheet" in fields else SCHEMA["camera"]["sheet"],
     }
 
 
