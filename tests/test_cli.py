@@ -134,7 +134,8 @@ def test_render_passes_options_and_reports_interruption(tmp_path, monkeypatch):
     scene, kw = calls[0]
     assert isinstance(scene, Scene) and scene.path.name == "fig07_schwarzschild_cornell.toml"
     assert kw == {"spp": 3, "width": 20, "height": 10, "seed": 5, "threads": 2, "flat": True, "light_sampling": False,
-                  "paper": True, "progress": kw["progress"], "record_pixels": None}  # fmt: skip
+                  "paper": True, "progress": kw["progress"], "record_pixels": None,
+                  "light_connection": None}  # fmt: skip
 
 
 def test_render_default_output_and_aov_selection(tmp_path, monkeypatch):
