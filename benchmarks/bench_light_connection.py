@@ -4,11 +4,13 @@ Efficiency = 1 / (relative MSE x CPU time) against a converged reference, for th
 (Schwarzschild), fig10d (Kerr a = 0.9), fig12 and fig13 (Ellis, the room side and the space side), each
 rendered with
 
-* ``lens``   the lens-aware connection (default; exact lens map where the metric is static and spherical,
-             the aimed proxies elsewhere, i.e. in Kerr),
-* ``aimed``  the flat-space proxies aimed by pilot geodesics (the connection before the lens map),
-* ``brute``  no light connection (BSDF sampling only),
-* ``seed``   the seed paper's method: brute force with its fixed-step RK4,
+* ``lens``          the defaults: the lens-aware connection (the exact lens map where the metric is static
+                    and spherical, Newton-refined image proxies in Kerr) and stratified pixel samples,
+* ``lens, jitter``  the same with uniform jitter in the pixel (``pixel_sampler="independent"``),
+* ``aimed, jitter`` the renderer before this work: flat-space proxies aimed by pilot geodesics, jitter,
+* ``brute``         no light connection (BSDF sampling only), stratified pixels,
+* ``brute, jitter`` the same with jitter,
+* ``seed``          the seed paper's method: brute force with its fixed-step RK4, jitter,
 
 and the same room in flat space (``--flat``, the default connection, which is exact there).
 
@@ -45,9 +47,11 @@ from _common import RESULTS, machine_line, timed, write_csv  # noqa: E402
 #: Estimators: name -> render options.
 ESTIMATORS = {
     "lens": {},
-    "aimed": {"light_connection": "aimed"},
+    "lens, jitter": {"pixel_sampler": "independent"},
+    "aimed, jitter": {"light_connection": "aimed", "pixel_sampler": "independent"},
     "brute": {"light_sampling": False},
-    "seed": {"light_sampling": False, "stepper": "rk4"},
+    "brute, jitter": {"light_sampling": False, "pixel_sampler": "independent"},
+    "seed": {"light_sampling": False, "stepper": "rk4", "pixel_sampler": "independent"},
 }
 
 #: Rooms: name -> (scene, flat companion).
@@ -71,7 +75,7 @@ def reference(room: str, cfg: dict, *, max_depth: int | None = None):
     no emitter directly."""
     a, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=100_001, max_depth=max_depth)
     b, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=200_003, max_depth=max_depth)
-    direct, _ = _render(room, cfg, spp=16, seed=7, max_depth=1)  # the camera segment alone
+    direct, _ = _render(room, cfg, spp=64, seed=7, max_depth=1)  # the camera segment alone
     return 0.5 * (a + b), (a - b) ** 2 / 4.0, direct.max(axis=2) <= 0.0
 
 
@@ -115,26 +119,27 @@ def main(argv=None) -> list[dict]:
             rows.append(measure(room, cfg, est, ref, noise, mask))
         # direct light alone
         dref, dnoise, dmask = reference(room, cfg, max_depth=2)
-        for est in ["lens"] if ROOMS[room] else ["lens", "aimed", "brute"]:
+        for est in ["lens"] if ROOMS[room] else ["lens", "lens, jitter", "aimed, jitter", "brute"]:
             rows.append(measure(room, cfg, est, dref, dnoise, dmask, max_depth=2))
     for r in rows:
         same = [q for q in rows if q["room"] == r["room"] and q["max_depth"] == r["max_depth"]]
         base = {q["estimator"]: q for q in same}
         flat = next((q for q in rows if q["room"] == "fig07 flat" and q["max_depth"] == r["max_depth"]), None)
-        for other in ("brute", "seed", "aimed"):
+        for label, other in (("brute", "brute"), ("brute_jitter", "brute, jitter"), ("seed", "seed"),
+                             ("before", "aimed, jitter")):  # fmt: skip
             if other in base:
-                r[f"over_{other}"] = r["efficiency"] / base[other]["efficiency"]
-                r[f"over_{other}_no_emitter_pixels"] = (r["efficiency_no_emitter_pixels"]
+                r[f"over_{label}"] = r["efficiency"] / base[other]["efficiency"]
+                r[f"over_{label}_no_emitter_pixels"] = (r["efficiency_no_emitter_pixels"]
                                                         / base[other]["efficiency_no_emitter_pixels"])  # fmt: skip
         if flat is not None and r["room"].startswith("fig07"):
             r["flat_over_this"] = flat["efficiency"] / r["efficiency"]
             r["flat_over_this_no_emitter_pixels"] = (flat["efficiency_no_emitter_pixels"]
                                                      / r["efficiency_no_emitter_pixels"])  # fmt: skip
     path = write_csv(args.out / "light_connection.csv", rows)
-    print(f"{'room':12s} {'depth':6s} {'estimator':9s} {'cpu s':>7s} {'rel MSE':>9s} {'eff':>9s} "
+    print(f"{'room':12s} {'depth':6s} {'estimator':14s} {'cpu s':>7s} {'rel MSE':>9s} {'eff':>9s} "
           f"{'rel MSE*':>9s} {'eff*':>9s}   (* pixels that see no emitter directly)")  # fmt: skip
     for r in rows:
-        print(f"{r['room']:12s} {str(r['max_depth']):6s} {r['estimator']:9s} {r['cpu_s']:7.2f} {r['rel_mse']:9.4f} "
+        print(f"{r['room']:12s} {str(r['max_depth']):6s} {r['estimator']:14s} {r['cpu_s']:7.2f} {r['rel_mse']:9.4f} "
               f"{r['efficiency']:9.2f} {r['rel_mse_no_emitter_pixels']:9.5f} {r['efficiency_no_emitter_pixels']:9.2f}")
     print(f"wrote {path}")
     return rows

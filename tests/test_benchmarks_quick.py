@@ -174,3 +174,16 @@ def test_skips_benchmark_reports_every_shortcut(tmp_path):
     for r in rows:
         assert float(r["cpu_s_without"]) > 0 and float(r["cpu_s_with"]) > 0
         assert math.isclose(float(r["speedup"]), float(r["cpu_s_without"]) / float(r["cpu_s_with"]), rel_tol=1e-4)
+
+
+def test_light_connection_benchmark_quick_mode(tmp_path):
+    import bench_light_connection
+
+    rows = bench_light_connection.main(["--quick", "--rooms", "fig07,fig07 flat", "--out", str(tmp_path)])
+    table = read_csv(tmp_path / "light_connection.csv")
+    assert len(table) == len(rows)
+    assert {r["estimator"] for r in rows if r["room"] == "fig07"} == set(bench_light_connection.ESTIMATORS)
+    for r in rows:
+        assert r["cpu_s"] > 0 and r["rel_mse"] > 0 and r["efficiency"] > 0
+        if r["room"] == "fig07" and r["max_depth"] == "scene":
+            assert r["over_brute"] > 0 and r["over_seed"] > 0 and r["flat_over_this"] > 0

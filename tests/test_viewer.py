@@ -479,7 +479,8 @@ def test_example_bent_rays_black_hole(tmp_path, capsys):
     assert png_size(tmp_path / "black_hole_view.png") == (1400, 700)
     rays = wv.read_rays(tmp_path / "black_hole_rays.vtp")
     assert rays.n_cells > 0 and set(rays.cell_data["pixel_y"]) == {6}
-    assert {0, 2} <= set(rays.cell_data["status"].tolist())  # some camera rays escape, some fall in
+    status = set(rays.cell_data["status"].tolist())
+    assert 2 in status and status & {0, 1}  # some camera rays fall in, some get past the hole
     assert "selected pixel" in capsys.readouterr().out
 
 

@@ -42,14 +42,14 @@ def _metric_instances():
             yield "kerr_a09", wv.metric_from_dict({"name": "kerr", "spin": 0.9})
 
 
-def collect() -> dict[str, np.ndarray]:
-    """Every output array, keyed by a name that says where it came from."""
+def collect(options: dict | None = None) -> dict[str, np.ndarray]:
+    """Every output array, keyed by a name that says where it came from; `options` go to every render."""
     out: dict[str, np.ndarray] = {}
     for path in sorted((ROOT / "scenes").glob("*.toml")):
         for flat in (False, True):
             key = f"render/{path.stem}/{'flat' if flat else 'curved'}"
             img = wv.render(str(path), width=12, height=9, spp=2, flat=flat, threads=2, progress=None,
-                            record_pixels=[[6, 4]])
+                            record_pixels=[[6, 4]], **(options or {}))
             out[key + "/rgb"] = img.rgb
             for name, a in img.aovs.items():
                 out[f"{key}/aov/{name}"] = np.asarray(a)
@@ -76,8 +76,14 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("mode", choices=["save", "compare"])
     p.add_argument("file")
+    p.add_argument("--render-option", action="append", default=[], metavar="KEY=VALUE",
+                   help="a render option for every render, e.g. pixel_sampler=independent (repeatable)")
     a = p.parse_args(argv)
-    now = collect()
+    options = {}
+    for item in a.render_option:
+        key, _, value = item.partition("=")
+        options[key] = {"true": True, "false": False}.get(value.lower(), value)
+    now = collect(options)
     if a.mode == "save":
         np.savez_compressed(a.file, **now)
         print(f"saved {len(now)} arrays to {a.file}")

@@ -147,6 +147,12 @@ nb::dict render(nb::dict scene, nb::dict options) {
     o.light_connection = lc == "lens" ? wv::kLensConnection : wv::kAimedConnection;
   }
   o.lens_images = option<int>(options, "lens_images");
+  {
+    const std::string ps = option<std::string>(options, "pixel_sampler");
+    if (ps != "sobol" && ps != "independent")
+      throw std::invalid_argument("pixel_sampler must be 'sobol' or 'independent', got '" + ps + "'");
+    o.pixel_sampler = ps == "sobol" ? wv::kSobolPixels : wv::kIndependentPixels;
+  }
   o.batch = option<bool>(options, "batch");
   o.threads = option<int>(options, "threads");
   const auto stepper = stepper_kind(option<std::string>(options, "stepper"));

@@ -12,6 +12,7 @@
 #include "bindings/arrays.h"
 #include "bindings/scene_dict.h"
 #include "engine/registry.h"
+#include "core/sobol.h"
 #include "integrators/lens_connection.h"
 #include "scene/material.h"
 
@@ -132,6 +133,14 @@ void bind_testing(nb::module_& m) {
         return to_numpy(std::move(y), {8});
       },
       "metric"_a, "params"_a, "pos"_a, "dir"_a, "sheet"_a = 1);
+  m.def(
+      "pixel_samples",
+      [](uint64_t seed, uint64_t pixel, int n) {
+        std::vector<double> out(2 * size_t(std::max(n, 0)));
+        for (int i = 0; i < n; ++i) wv::pixel_sample(seed, pixel, uint64_t(i), out[2 * i], out[2 * i + 1]);
+        return to_numpy(std::move(out), {size_t(std::max(n, 0)), 2});
+      },
+      "seed"_a, "pixel"_a, "n"_a, "Test hook: the first n stratified points (n, 2) of a pixel (core/sobol.h).");
   m.def(
       "lens_ray",
       [](const std::string& metric, const std::vector<double>& params, double r_a, double r_b, bool same_sheet,

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/rng.h"
+#include "core/sobol.h"
 #include "core/vec3.h"
 #include "integrators/chart_geometry.h"
 #include "scene/light.h"
@@ -44,6 +45,13 @@ class CameraRays {
     const double x = px + rng.uniform();
     const double y = py + rng.uniform();
     return direction_at(x, y);
+  }
+
+  // The same at the sample-th point of the pixel's stratified sequence (core/sobol.h); draws nothing from rng.
+  V3 direction_stratified(int px, int py, uint64_t seed, uint64_t pixel, uint64_t sample) const {
+    double jx, jy;
+    pixel_sample(seed, pixel, sample, jx, jy);
+    return direction_at(px + jx, py + jy);
   }
 
   // Local-frame direction of the camera ray through continuous pixel coordinates (x, y): x to the right

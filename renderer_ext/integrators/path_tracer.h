@@ -70,7 +70,8 @@ class PathTracer {
     const Camera& cam = sc_.camera;
     const size_t pix = size_t(py) * cam.width + px;
     Rng rng(o_.seed, pix, uint64_t(s));
-    V3 d = camera_.direction(px, py, rng);
+    V3 d = o_.pixel_sampler == kSobolPixels ? camera_.direction_stratified(px, py, o_.seed, pix, uint64_t(s))
+                                            : camera_.direction(px, py, rng);
     V3 x = cam.position;
     int sheet = cam.sheet, skip = -1;
     V3 L{0, 0, 0}, beta{1, 1, 1};

@@ -16,6 +16,10 @@ namespace wv {
 // (lens_connection.h; elsewhere the aimed proxies).
 enum LightConnectionKind : int { kAimedConnection = 0, kLensConnection = 1 };
 
+// Where in its pixel a camera sample goes: uniform jitter from the sample's random numbers, or the
+// pixel's stratified (Owen-scrambled Sobol) sequence (core/sobol.h).
+enum PixelSamplerKind : int { kIndependentPixels = 0, kSobolPixels = 1 };
+
 struct RenderOptions {
   int spp = 16;
   uint64_t seed = 0;
@@ -27,7 +31,8 @@ struct RenderOptions {
   bool aim_lights = true;  // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
   bool light_margin = true;  // ... and enlarge quad and disk proxies by that shift (lensed images are larger)
   int light_connection = kLensConnection;
-  int lens_images = 2;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
+  int lens_images = 2;
+  int pixel_sampler = kSobolPixels;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
   bool batch = true;       // curved space: step the geodesics of many samples together in SIMD lanes
   // Local error tolerance of pilot geodesics (at least trace.tol). A pilot only decides where a light's
   // proxy is seen from, never what a sample is worth, so its accuracy cannot bias the image.

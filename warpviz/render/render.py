@@ -58,7 +58,10 @@ DEFAULT_OPTIONS = {
     # curved space: "lens" samples every lensed image of a light where the metric is static and spherical
     # (integrators/lens_connection.h), elsewhere (Kerr) the aimed proxies; "aimed" uses those everywhere
     "light_connection": "lens",
-    "lens_images": 2,  # image orders the lens connection samples: 0 direct, 1 round the far side, ...
+    "lens_images": 2,
+    # where a camera sample goes in its pixel: "sobol" = stratified (Owen-scrambled Sobol, any sample
+    # count), "independent" = uniform jitter from the sample's random numbers
+    "pixel_sampler": "sobol",  # image orders the lens connection samples: 0 direct, 1 round the far side, ...
     "aim_lights": True,  # curved space: aim light samples with pilot geodesics (integrators/light_aim.h)
     "light_margin": True,  # ... and enlarge quad/disk light proxies by the aim's correction (lensed images)
     "pilot_tol": 1e-4,  # tolerance of those pilots (at least tol); they only aim, so it cannot bias
@@ -98,6 +101,7 @@ def render(
     tol: float | None = None,
     light_connection: str | None = None,
     lens_images: int | None = None,
+    pixel_sampler: str | None = None,
     aim_lights: bool | None = None,
     light_margin: bool | None = None,
     pilot_tol: float | None = None,
@@ -144,6 +148,12 @@ def render(
         Image orders the lens connection samples, 1-4 (default 2: the direct image and the one round the
         far side of the hole; each further order is ~e^(-2 pi) dimmer). Higher orders are found by BSDF
         sampling alone.
+    pixel_sampler : {"sobol", "independent"}, optional, keyword-only
+        Where a camera sample falls in its pixel. ``"sobol"`` (default): the pixel's Owen-scrambled Sobol
+        sequence, stratified for every sample count, so edges inside a pixel (a lensed lamp, the shadow's
+        rim) average out faster (fig07 room: 3.9x lower MSE at 16 spp). ``"independent"``: uniform jitter
+        from the sample's random numbers (the images of warpviz before the lens connection, bit for bit
+        in flat space).
     aim_lights : bool, optional, keyword-only
         In curved space, aim the light connection with two pilot geodesics per light and vertex so the
         sampled directions land on the lights despite bending (default True). Unbiased either way.
@@ -180,6 +190,7 @@ def render(
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
                  "stepper": stepper, "tol": tol, "aim_lights": aim_lights,
                  "light_connection": light_connection, "lens_images": lens_images,
+                 "pixel_sampler": pixel_sampler,
                  "light_margin": light_margin, "pilot_tol": pilot_tol,
                  "batch": batch}  # fmt: skip
     for key, value in overrides.items():
@@ -200,6 +211,8 @@ def render(
     if options["light_connection"] not in ("lens", "aimed"):
         raise ValueError(f"light_connection must be 'lens' or 'aimed', got {options['light_connection']!r}")
     options["lens_images"] = _positive_int("lens_images", options["lens_images"])
+    if options["pixel_sampler"] not in ("sobol", "independent"):
+        raise ValueError(f"pixel_sampler must be 'sobol' or 'independent', got {options['pixel_sampler']!r}")
     if options["lens_images"] > 4:
         raise ValueError(f"lens_images must be 1-4, got {options['lens_images']}")
     if options["stepper"] not in STEPPERS:
