@@ -55,6 +55,17 @@ struct LensImages {
   double area = 0.0;   // of the light
 };
 
+// The lens connection's view of a surface hit.
+inline LensVertex lens_vertex(const SegmentEnd& e) {
+  LensVertex v;
+  v.pos = e.pos;
+  v.sheet = e.sheet;
+  v.to_local = e.to_local;
+  v.radial_local = normalize(e.to_local(normalize(e.pos)));
+  v.normal_local = e.normal_local;
+  return v;
+}
+
 // A light point as the lens connection sees it.
 struct LensLight {
   V3 pos, normal;       // user frame
@@ -188,15 +199,7 @@ class LensConnection {
     }
   }
 
-  LensVertex vertex(const SegmentEnd& e) const {
-    LensVertex v;
-    v.pos = e.pos;
-    v.sheet = e.sheet;
-    v.to_local = e.to_local;
-    v.radial_local = normalize(e.to_local(normalize(e.pos)));
-    v.normal_local = e.normal_local;
-    return v;
-  }
+  LensVertex vertex(const SegmentEnd& e) const { return lens_vertex(e); }
 
   // A direction from v towards light number li (of the scene's light list) and its pdf, with the point
   // aimed at; u1, u2 pick the point, u3 the image.

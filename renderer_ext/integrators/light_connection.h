@@ -186,17 +186,10 @@ class LightConnection {
       V3 target = c;
       for (int it = 0; it < kPilots; ++it) {
         const V3 w0 = normalize(e.to_local(target - e.pos));
-        if (dot(w0, e.normal_local) * dot(wo, e.normal_local) <= 0.0) break;  // behind the surface
-        double y[8];
-        if (!geo_.backward_state(offset(e.pos, n_user, e.normal_local, w0), e.sheet, w0, y, frames)) break;
-        const RayResult res = co_await Geodesic<M, S, PlaneTarget<M>>(m_, sched, y, e.sheet, popt_, nullptr,
-                                                                      PlaneTarget<M>{m_, c, nrm, e.sheet});
-        ++st.segments;
-        st.steps += res.n_steps;
-        if (res.status != kHit) break;
-        V3 miss = V3(res.pos) - c;
-        miss = miss - nrm * dot(miss, nrm);
-        if (!finite(miss) || length(miss) > 2.0 * length(c - e.pos)) break;
+        V3 miss;
+        bool ok;
+        co_await pilot(e, n_user, wo, w0, c, nrm, st, frames, sched, ok, miss);
+        if (!ok || length(miss) > 2.0 * length(c - e.pos)) break;
         target = target - miss;
         a.from[i] = e.pos + (c - target);
       }
@@ -207,6 +200,24 @@ class LightConnection {
       const double size = light_size(p);
       if (o_.light_margin && size > 0.0) a.scale[i] = 1.0 + std::min(0.5, length(target - c) / size);
     }
+  }
+
+  // A pilot geodesic from just off vertex e along local direction w to the plane (c, nrm); ok and where it
+  // misses c within that plane.
+  Task<void> pilot(const SegmentEnd& e, V3 n_user, V3 wo, V3 w, V3 c, V3 nrm, RenderStats& st, StartFrames& frames,
+                   Scheduler* sched, bool& ok, V3& miss) const {
+    ok = false;
+    if (dot(w, e.normal_local) * dot(wo, e.normal_local) <= 0.0) co_return;  // behind the surface
+    double y[8];
+    if (!geo_.backward_state(offset(e.pos, n_user, e.normal_local, w), e.sheet, w, y, frames)) co_return;
+    const RayResult res = co_await Geodesic<M, S, PlaneTarget<M>>(m_, sched, y, e.sheet, popt_, nullptr,
+                                                                  PlaneTarget<M>{m_, c, nrm, e.sheet});
+    ++st.segments;
+    st.steps += res.n_steps;
+    if (res.status != kHit) co_return;
+    miss = V3(res.pos) - c;
+    miss = miss - nrm * dot(miss, nrm);
+    ok = finite(miss);
   }
 
   static constexpr int kPilots = 2;  // fixed-point iterations of a light's aim point
@@ -251,12 +262,7 @@ class LightConnection {
       ev = k.axis_v * (2.0 * k.r_out);
       corner = k.center - (eu + ev) * 0.5;
     }
-    LensVertex v;
-    v.pos = e.pos;
-    v.sheet = e.sheet;
-    v.to_local = e.to_local;
-    v.radial_local = normalize(e.to_local(normalize(e.pos)));
-    v.normal_local = e.normal_local;
+    const LensVertex v = lens_vertex(e);
     LensLight b;
     b.pos = c;
     b.normal = nrm;
@@ -277,18 +283,12 @@ class LightConnection {
       };
       bool ok = true;
       for (int it = 0; it < kImagePilots && ok; ++it) {
-        ok = false;
-        if (dot(f.w, e.normal_local) * dot(wo, e.normal_local) <= 0.0) break;  // behind the surface
-        double y[8];
-        if (!geo_.backward_state(offset(e.pos, n_user, e.normal_local, f.w), e.sheet, f.w, y, frames)) break;
-        const RayResult res = co_await Geodesic<M, S, PlaneTarget<M>>(m_, sched, y, e.sheet, popt_, nullptr,
-                                                                      PlaneTarget<M>{m_, c, nrm, e.sheet});
-        ++st.segments;
-        st.steps += res.n_steps;
-        if (res.status != kHit) break;
-        V3 miss = V3(res.pos) - c;
-        miss = miss - nrm * dot(miss, nrm);
-        if (!finite(miss) || length(miss) > 0.5 * length(c - e.pos)) break;
+        V3 miss;
+        co_await pilot(e, n_user, wo, f.w, c, nrm, st, frames, sched, ok, miss);
+        if (!ok || length(miss) > 0.5 * length(c - e.pos)) {
+          ok = false;
+          break;
+        }
         double t[2];
         tangent(miss, t);
         const V3 w = normalize(f.w - f.e1 * t[0] - f.e2 * t[1]);

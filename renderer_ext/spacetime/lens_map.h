@@ -147,33 +147,13 @@ class LensMap {
       tau = M_PI - psi;
     } else {
       const double b = std::sin(psi) / (uA_ * std::sqrt(AA_));
-      const bool passes_closest = dx * RB * std::cos(gamma) + dy * RB * std::sin(gamma) > 0.0 &&
-                                  RA * RA + dx * RA < 0.0;  // the foot of the perpendicular lies inside A-B
+      // The line's closest point to the centre lies between A and B: A.d < 0 < B.d, d = B - A.
+      const bool passes_closest = RA * dx < 0.0 && dx * RB * std::cos(gamma) + dy * RB * std::sin(gamma) > 0.0;
       tau = (passes_closest ? 1.0 : -1.0) * std::sqrt(std::max(0.0, bB_ - std::min(b, bB_)));
     }
     const double gap = (tau - tau_lo_) / (tau_hi_ - tau_lo_);
     if (!(gap > 0.0 && gap < 1.0)) return -1.0;
     return -std::log1p(-gap);
-  }
-
-  // The ray leaving A at emission angle psi that reaches B without (inward == false: it starts outward,
-  // or it arrives moving inward) or after (inward == true) passing its turning point. Out: its Phi,
-  // dPhi/dpsi and dR/dphi at B. For a ray starting outward `after_turn` is ignored.
-  bool ray_at(double psi, bool after_turn, LensRay& r) const {
-    if (!valid_) return false;
-    double tau;
-    if (case_ == kOutward) {
-      tau = psi;
-    } else if (case_ == kThroat) {
-      tau = M_PI - psi;
-    } else {
-      if (psi <= 0.5 * M_PI) return false;
-      const double b = std::sin(psi) / (uA_ * std::sqrt(AA_));
-      if (b > bB_) return false;
-      tau = (after_turn ? 1.0 : -1.0) * std::sqrt(bB_ - b);
-    }
-    if (!(tau >= tau_lo_ && tau < tau_hi_)) return false;
-    return eval(tau, r, nullptr);
   }
 
  private:
