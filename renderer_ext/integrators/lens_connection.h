@@ -206,7 +206,7 @@ class LensConnection {
   bool sample(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf, V3& target) const {
     const int p = sc_.lights[li];
     LightPoint lp;
-    if (!sample_light_point(sc_, p, u1, u2, lp)) return false;
+    if (!sample_light_point(sc_, p, v.pos, u1, u2, lp)) return false;
     const LensImages im = lens_images(lens_, v, light(p, lp), orders_);
     if (!(im.total > 0.0)) return false;
     double acc = 0.0;
@@ -235,7 +235,7 @@ class LensConnection {
   double pdf(const LensVertex& v, V3 w, int p, V3 x) const {
     if (p < 0 || std::find(sc_.lights.begin(), sc_.lights.end(), p) == sc_.lights.end()) return 0.0;
     LightPoint lp;
-    if (!light_point_at(sc_, p, x, lp)) return 0.0;
+    if (!light_point_at(sc_, p, v.pos, x, lp)) return 0.0;
     return lens_pdf(lens_, v, w, light(p, lp), orders_, 1.0 / double(sc_.lights.size()));
   }
 

@@ -141,12 +141,14 @@ inline bool sample_light(const Scene& sc, int p, V3 x, const LinearMap& L, doubl
 }
 
 // A point on light prim p drawn uniformly by area (user frame), with the light's unit normal there and the
-// light's whole area: what the lens-aware connection (integrators/lens_connection.h) starts from.
+// area sampled: what the lens-aware connection (integrators/lens_connection.h) starts from. A sphere is
+// sampled on the hemisphere that faces `from` (the other half is behind it, as seen in flat space; light
+// bent round it from there is left to BSDF sampling).
 struct LightPoint {
   V3 pos, normal;
   double area = 0.0;
 };
-inline bool sample_light_point(const Scene& sc, int p, double u1, double u2, LightPoint& lp) {
+inline bool sample_light_point(const Scene& sc, int p, V3 from, double u1, double u2, LightPoint& lp) {
   const Prim& pr = sc.prims[p];
   if (pr.kind == PrimKind::kQuad) {
     const Quad& q = sc.quads[pr.index];
@@ -162,18 +164,23 @@ inline bool sample_light_point(const Scene& sc, int p, double u1, double u2, Lig
     lp.area = M_PI * (k.r_out * k.r_out - k.r_in * k.r_in) * length(cross(k.axis_u, k.axis_v));
   } else if (pr.kind == PrimKind::kSphere) {
     const Sphere& s = sc.spheres[pr.index];
-    const double z = 1.0 - 2.0 * u1, rxy = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = kTwoPi * u2;
-    lp.normal = {rxy * std::cos(phi), rxy * std::sin(phi), z};
+    const V3 axis = normalize(from - s.center);
+    if (!finite(axis)) return false;
+    V3 t, b;
+    basis_around(axis, t, b);
+    const double z = u1, rxy = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = kTwoPi * u2;  // uniform on the cap
+    lp.normal = axis * z + t * (rxy * std::cos(phi)) + b * (rxy * std::sin(phi));
     lp.pos = s.center + lp.normal * s.radius;
-    lp.area = 2.0 * kTwoPi * s.radius * s.radius;
+    lp.area = kTwoPi * s.radius * s.radius;
   } else {
     return false;
   }
   return lp.area > 0.0 && std::isfinite(lp.area);
 }
 
-// The unit normal and area of light prim p at user-frame point x on it.
-inline bool light_point_at(const Scene& sc, int p, V3 x, LightPoint& lp) {
+// The unit normal and sampled area of light prim p at user-frame point x on it, seen from `from`; false
+// where sample_light_point never lands.
+inline bool light_point_at(const Scene& sc, int p, V3 from, V3 x, LightPoint& lp) {
   const Prim& pr = sc.prims[p];
   lp.pos = x;
   if (pr.kind == PrimKind::kQuad) {
@@ -187,7 +194,8 @@ inline bool light_point_at(const Scene& sc, int p, V3 x, LightPoint& lp) {
   } else if (pr.kind == PrimKind::kSphere) {
     const Sphere& s = sc.spheres[pr.index];
     lp.normal = normalize(x - s.center);
-    lp.area = 2.0 * kTwoPi * s.radius * s.radius;
+    if (!(dot(lp.normal, from - s.center) > 0.0)) return false;
+    lp.area = kTwoPi * s.radius * s.radius;
   } else {
     return false;
   }
