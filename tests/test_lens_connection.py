@@ -135,7 +135,15 @@ def _wormhole_room(light_sheet: int):
     return scene
 
 
+def _sphere_lamp_room():
+    """The room lit by an emissive sphere (sampled on its hemisphere facing each vertex) instead of the quad."""
+    scene = room(metric("schwarzschild", 1.0), size=(12, 9), light=3.0, spheres=False)
+    scene["shapes"][6] = {"type": "sphere", "center": [3.0, 4.0, 8.0], "radius": 2.0, "material": 3}
+    return scene
+
+
 @pytest.mark.parametrize("scene", [
+    pytest.param(_sphere_lamp_room, id="sphere-light"),
     pytest.param(lambda: room(metric("schwarzschild", 1.0), size=(12, 9), light=3.0), id="schwarzschild"),
     pytest.param(lambda: room(metric("reissner_nordstrom", 1.0, 0.7), size=(12, 9), light=3.0), id="rn"),
     pytest.param(lambda: _wormhole_room(1), id="ellis"),
