@@ -9,8 +9,8 @@
 // geodesic with the proxy map's Jacobian, and around it the light's quad (a disk's bounding square) mapped
 // into directions by that Jacobian's inverse, enlarged by kImageMargin, sampled uniformly on the tangent
 // plane of the image direction. Which image, by its solid angle times cos theta. The pdf of any direction
-// is the mixture's, so the estimator stays unbiased whatever Newton finds or misses; only the centre's
-// direction is exact (to the pilots' tolerance), the shape is the proxy map's.
+// is the mixture's, so the estimator stays unbiased whatever Newton finds or misses; the centre's
+// direction is moved towards Kerr's by the pilot, the shape is the proxy map's.
 #pragma once
 
 #include <algorithm>

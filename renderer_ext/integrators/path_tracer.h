@@ -4,11 +4,15 @@
 // them as on the light that reaches the camera. Each segment of a path is a geodesic from one surface
 // to the next (a straight line in flat space, where nothing is integrated). At a diffuse vertex the
 // direct light is estimated by two strategies combined with the balance heuristic (multiple importance
-// sampling): a BSDF-sampled direction, and a direction towards a light sampled from the light's flat-space
-// proxy (scene/light.h). Both directions are traced as geodesics and both count whatever emission their
-// geodesic reaches first (a light, the sky, another emitter), so the weights sum to one for every
-// direction and the estimator is unbiased even though the proxy ignores bending. Russian roulette ends
-// long paths. Every random number comes from Rng(seed, pixel, sample).
+// sampling): a BSDF-sampled direction, and a direction towards a light. Where the metric is static and
+// spherical the light strategy draws a point on a light and one of its lensed images by the exact lens map
+// (lens_connection.h); a light sample then counts only if its geodesic first hits that point, and a BSDF
+// direction's light pdf is that of the light point its geodesic first hits, settled after its segment.
+// Elsewhere the direction comes from a proxy (flat-space, pilot-aimed, or Kerr's image proxies:
+// light_connection.h) that is a density over directions, and both strategies count whatever emission
+// their geodesic reaches first. Either way the weights sum to one for every direction and the estimator
+// is unbiased. Camera samples fall at the pixel's stratified points (core/sobol.h) or uniform jitter.
+// Russian roulette ends long paths. Every random number comes from Rng(seed, pixel, sample).
 //
 // This file holds the transport of one sample (sample_pixel, pbrt's Li) and the entry point
 // path_trace_scene; the pieces it uses are
@@ -18,7 +22,8 @@
 //   segment.h           tracing one geodesic segment to the next surface or the sky (SegmentEnd)
 //   chart_geometry.h    user frame, chart and local observer frame; backward start states
 //   emission.h          emitted radiance with redshift and beaming
-//   light_connection.h  the light strategy's proxies, aimed by pilot geodesics, and their pdf
+//   lens_connection.h   the lens-aware light strategy of static spherical metrics and its pdf
+//   light_connection.h  the light strategy's proxies, aimed by pilot geodesics (Kerr: image proxies)
 #pragma once
 
 #include <algorithm>
