@@ -52,7 +52,7 @@ struct LensImages {
   double weight[kMax];  // cos(theta) |dOmega / dA|
   double jacobian[kMax];  // |dA_B / dOmega_A| (0 where the weight is 0)
   double total = 0.0;
-  double area = 0.0;   // of the light
+  double area = 0.0;   // sampled: the light's (a sphere's: its half facing the vertex)
 };
 
 // The lens connection's view of a surface hit.
@@ -69,7 +69,7 @@ inline LensVertex lens_vertex(const SegmentEnd& e) {
 // A light point as the lens connection sees it.
 struct LensLight {
   V3 pos, normal;       // user frame
-  double area = 0.0;    // of the whole light
+  double area = 0.0;    // sampled: the light's (a sphere's: its half facing the vertex)
   int sheet = 1;
   bool two_sided = false;
 };
