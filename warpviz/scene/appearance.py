@@ -8,7 +8,6 @@ that builds renders.
 
 from __future__ import annotations
 
-import difflib
 import math
 from pathlib import Path
 from typing import Any
@@ -141,14 +140,7 @@ def _materials(r: _Reader, tbl: Any, tex_list: list, tex_index: dict) -> tuple[l
         if "texture" in m and "color" in m:
             raise r.error(mp + ("texture",), f"{key_name(mp)}: give either color or texture, not both", at_value=False)
         if "texture" in m:
-            name = r.string(m, mp, "texture")
-            if name not in tex_index:
-                close = difflib.get_close_matches(name, list(tex_index), n=1, cutoff=0.6)
-                hint = f"; did you mean {close[0]!r}?" if close else ""
-                defined = ", ".join(tex_index) or "none"
-                kp = mp + ("texture",)
-                raise r.error(kp, f"{key_name(kp)}: unknown texture {name!r}{hint} (defined: {defined})")
-            return tex_index[name]
+            return r.reference(m, mp, "texture", tex_index, "texture")
         tex_list.append({"type": "constant", "color": r.color(m, mp, "color", default_color, albedo=albedo)})
         return len(tex_list) - 1
 

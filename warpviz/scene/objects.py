@@ -7,7 +7,6 @@ carries its material index and sheet.
 
 from __future__ import annotations
 
-import difflib
 from pathlib import Path
 from typing import Any
 
@@ -43,16 +42,10 @@ def _objects(r: _Reader, objs: Any, mat_index: dict, *, ellis: bool) -> list[dic
         kind = r.choice(o, op, "shape", list(_SHAPE_KEYS))
         allowed = (*_COMMON_OBJECT_KEYS, *_SHAPE_KEYS[kind])
         r.table(op, o, allowed, required=("material",), what=f"{key_name(op)} ({kind})")
-        mat_name = r.string(o, op, "material")
-        if mat_name not in mat_index:
-            close = difflib.get_close_matches(mat_name, list(mat_index), n=1, cutoff=0.6)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
-            defined = ", ".join(mat_index) or "none"
-            kp = op + ("material",)
-            raise r.error(kp, f"{key_name(kp)}: unknown material {mat_name!r}{hint} (defined: {defined})")
+        material = r.reference(o, op, "material", mat_index, "material")
         if "name" in o:
             r.string(o, op, "name")
-        common = {"material": mat_index[mat_name], "sheet": _sheet(r, o, op, ellis=ellis)}
+        common = {"material": material, "sheet": _sheet(r, o, op, ellis=ellis)}
         for shape in _shape(r, op, kind, o):
             shapes.append({**shape, **common})
     return shapes

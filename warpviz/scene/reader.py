@@ -67,6 +67,12 @@ def key_name(path: tuple) -> str:
 
 
 # ---------------------------------------------------------------------------------------------- reader
+def did_you_mean(name: str, options) -> str:
+    """``"; did you mean 'x'?"`` for the option closest to ``name`` (difflib, cutoff 0.6), else ``""``."""
+    close = difflib.get_close_matches(name, list(options), n=1, cutoff=0.6)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
 class _Reader:
     """Validation helpers that turn problems into SceneErrors at the right file position."""
 
@@ -86,10 +92,9 @@ class _Reader:
             raise self.error(path, f"{key_name(path) or 'the scene'} must be a table, got {_describe(value)}")
         for k in value:
             if k not in allowed:
-                close = difflib.get_close_matches(k, list(allowed), n=1, cutoff=0.6)
-                hint = f"; did you mean {close[0]!r}?" if close else ""
                 known = ", ".join(sorted(allowed))
-                raise self.error(path + (k,), f"unknown key {k!r} in {where}{hint} (allowed: {known})", at_value=False)
+                raise self.error(path + (k,), f"unknown key {k!r} in {where}{did_you_mean(k, allowed)} (allowed: {known})",
+                                 at_value=False)
         for k in required:
             if k not in value:
                 raise self.error(path, f"{where} is missing the required key {k!r}", at_value=False)
@@ -138,12 +143,19 @@ class _Reader:
     def choice(self, tbl, path, name, options, default=_REQUIRED) -> str:
         value = self.string(tbl, path, name, default)
         if value not in options:
-            close = difflib.get_close_matches(value, list(options), n=1, cutoff=0.6)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
-            raise self.error(
-                path + (name,), f"{key_name(path + (name,))} = {value!r} is not one of {', '.join(options)}{hint}"
-            )
+            raise self.error(path + (name,), f"{key_name(path + (name,))} = {value!r} is not one of "
+                             f"{', '.join(options)}{did_you_mean(value, options)}")
         return value
+
+    def reference(self, tbl, path, name, index: dict, what: str) -> int:
+        """The index of the named ``what`` (texture, material) that ``tbl[name]`` refers to, else an error
+        listing the defined ones."""
+        value = self.string(tbl, path, name)
+        if value not in index:
+            kp = path + (name,)
+            defined = ", ".join(index) or "none"
+            raise self.error(kp, f"{key_name(kp)}: unknown {what} {value!r}{did_you_mean(value, index)} (defined: {defined})")
+        return index[value]
 
     def numbers(self, tbl, path, name, n, default=_REQUIRED, *, integer=False, lo=None, hi=None, lo_open=False) -> list:
         value = self.get(tbl, path, name, default)

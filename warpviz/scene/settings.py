@@ -8,7 +8,6 @@ dict (checked to start outside every horizon), the renderer options of ``[render
 
 from __future__ import annotations
 
-import difflib
 import math
 from pathlib import Path
 from typing import Any
@@ -17,7 +16,7 @@ import numpy as np
 
 from warpviz._native import core, registered_metrics
 from warpviz.scene.native import SCHEMA
-from warpviz.scene.reader import _describe, _Reader, key_name
+from warpviz.scene.reader import _describe, _Reader, did_you_mean, key_name
 from warpviz.spacetime import Metric, metric_from_dict
 from warpviz.tracing import STEPPERS
 
@@ -126,10 +125,9 @@ def _outputs(r: _Reader, tbl: Any) -> dict:
             raise r.error(path + ("aovs",), f"outputs.aovs must be a list of names, got {_describe(aovs)}")
         for i, a in enumerate(aovs):
             if a not in AOV_NAMES:
-                close = difflib.get_close_matches(a, AOV_NAMES, n=1, cutoff=0.6)
-                hint = f"; did you mean {close[0]!r}?" if close else ""
                 known = ", ".join(AOV_NAMES)
-                raise r.error(path + ("aovs", i), f"outputs.aovs[{i}]: unknown AOV {a!r}{hint} (known: {known})")
+                raise r.error(path + ("aovs", i),
+                              f"outputs.aovs[{i}]: unknown AOV {a!r}{did_you_mean(a, AOV_NAMES)} (known: {known})")
     file = None
     if "file" in tbl:
         file = r.string(tbl, path, "file")
