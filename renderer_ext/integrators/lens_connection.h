@@ -74,44 +74,72 @@ struct LensLight {
   bool two_sided = false;
 };
 
-// The images of order < orders of light point b seen from vertex v.
-inline LensImages lens_images(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders) {
-  LensImages im;
-  im.area = b.area;
+// The rays of the images of order < orders of light point b seen from vertex v: each root of the lens
+// map with its direction w at v (local), its sense of rotation about the centre t_user (user frame, and
+// t_local), and at B the in-plane direction phi_hat and the arrival direction t_arr (user frame).
+struct LensImageRay {
+  LensRay r;
+  V3 w, t_user, t_local, phi_hat, t_arr;
+};
+struct LensImageRays {
+  int n = 0;
+  double RB = 0.0;
+  V3 xa, xb;  // unit radial directions of A and B
+  LensImageRay ray[LensImages::kMax];
+};
+
+inline LensImageRays lens_image_rays(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders) {
+  LensImageRays out;
   const double RA = length(v.pos), RB = length(b.pos);
-  if (!(RA > 0.0 && RB > 0.0)) return im;
+  if (!(RA > 0.0 && RB > 0.0)) return out;
+  out.RB = RB;
   const V3 xa = v.pos / RA, xb = b.pos / RB;
+  out.xa = xa;
+  out.xb = xb;
   const V3 side = xb - xa * dot(xb, xa);  // towards B, perpendicular to A's radial direction
   const double sin_g = length(side);
-  if (!(sin_g > 1e-9)) return im;
+  if (!(sin_g > 1e-9)) return out;
   const double gamma = std::atan2(sin_g, dot(xa, xb));
   const V3 toward = side / sin_g;
   const LensMap map(lens, 1.0 / RA, 1.0 / RB, b.sheet == v.sheet);
-  if (!map.valid()) return im;
+  if (!map.valid()) return out;
   // Orders in turn, each started from the last one's root (Phi grows with z).
   double z = map.flat_guess(gamma);
   for (int m = 0; m < std::min(orders, LensImages::kMax); ++m) {
     const bool long_way = m % 2 == 1;
     const double target = long_way ? kTwoPi * double((m + 1) / 2) - gamma : kTwoPi * double(m / 2) + gamma;
-    const LensRay r = map.solve(target, z, &z);
-    if (!r.ok) break;
-    const V3 t_user = long_way ? -toward : toward;  // the ray's sense of rotation about the centre
-    V3 t_local = v.to_local(t_user);
-    t_local = normalize(t_local - v.radial_local * dot(t_local, v.radial_local));
-    const V3 w = v.radial_local * std::cos(r.psi) + t_local * std::sin(r.psi);
-    // Arrival direction at B and the area Jacobian.
-    const double sp = std::sin(r.phi), cp = std::cos(r.phi);
-    const V3 phi_hat = xa * (-sp) + t_user * cp;
-    const V3 t_arr = normalize(xb * r.dr_dphi + phi_hat * RB);
-    const double cos_r = std::fabs(dot(t_arr, xb)), cos_n = dot(t_arr, b.normal);
+    LensImageRay& ir = out.ray[out.n];
+    ir.r = map.solve(target, z, &z);
+    if (!ir.r.ok) break;
+    ir.t_user = long_way ? -toward : toward;
+    V3 t_local = v.to_local(ir.t_user);
+    ir.t_local = normalize(t_local - v.radial_local * dot(t_local, v.radial_local));
+    ir.w = v.radial_local * std::cos(ir.r.psi) + ir.t_local * std::sin(ir.r.psi);
+    const double sp = std::sin(ir.r.phi), cp = std::cos(ir.r.phi);
+    ir.phi_hat = xa * (-sp) + ir.t_user * cp;
+    ir.t_arr = normalize(xb * ir.r.dr_dphi + ir.phi_hat * RB);
+    ++out.n;
+  }
+  return out;
+}
+
+// The images of order < orders of light point b seen from vertex v, with their weights.
+inline LensImages lens_images(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders) {
+  LensImages im;
+  im.area = b.area;
+  const LensImageRays rays = lens_image_rays(lens, v, b, orders);
+  for (int k = 0; k < rays.n; ++k) {
+    const LensImageRay& ir = rays.ray[k];
+    // The area Jacobian from the sweep's derivative and the arrival direction.
+    const double cos_r = std::fabs(dot(ir.t_arr, rays.xb)), cos_n = dot(ir.t_arr, b.normal);
     double weight = 0.0;
-    const double cos_a = dot(w, v.normal_local);
-    if (cos_a > 0.0 && (b.two_sided || cos_n < 0.0) && std::isfinite(r.dphi_dpsi)) {
-      const double jac =
-          RB * RB * std::fabs(sp) * std::fabs(r.dphi_dpsi) * cos_r / (std::sin(r.psi) * std::fabs(cos_n));
+    const double cos_a = dot(ir.w, v.normal_local);
+    if (cos_a > 0.0 && (b.two_sided || cos_n < 0.0) && std::isfinite(ir.r.dphi_dpsi)) {
+      const double jac = rays.RB * rays.RB * std::fabs(std::sin(ir.r.phi)) * std::fabs(ir.r.dphi_dpsi) * cos_r /
+                         (std::sin(ir.r.psi) * std::fabs(cos_n));
       if (jac > 0.0 && std::isfinite(jac)) weight = cos_a / jac;
     }
-    im.w[im.n] = w;
+    im.w[im.n] = ir.w;
     im.jacobian[im.n] = weight > 0.0 ? cos_a / weight : 0.0;
     im.weight[im.n] = weight;
     im.total += weight;
@@ -130,38 +158,21 @@ struct LensImageFrame {
 // The image frames of order < orders of point b (normal b.normal) from v; returns how many.
 inline int lens_image_frames(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders,
                              LensImageFrame* out) {
-  const double RA = length(v.pos), RB = length(b.pos);
-  if (!(RA > 0.0 && RB > 0.0)) return 0;
-  const V3 xa = v.pos / RA, xb = b.pos / RB;
-  const V3 side = xb - xa * dot(xb, xa);
-  const double sin_g = length(side);
-  if (!(sin_g > 1e-9)) return 0;
-  const double gamma = std::atan2(sin_g, dot(xa, xb));
-  const V3 toward = side / sin_g;
-  const LensMap map(lens, 1.0 / RA, 1.0 / RB, b.sheet == v.sheet);
-  if (!map.valid()) return 0;
-  double z = map.flat_guess(gamma);
+  const LensImageRays rays = lens_image_rays(lens, v, b, orders);
   int n = 0;
-  for (int m = 0; m < std::min(orders, LensImages::kMax); ++m) {
-    const bool long_way = m % 2 == 1;
-    const double target = long_way ? kTwoPi * double((m + 1) / 2) - gamma : kTwoPi * double(m / 2) + gamma;
-    const LensRay r = map.solve(target, z, &z);
-    if (!r.ok || !std::isfinite(r.dphi_dpsi)) break;
-    const V3 t_user = long_way ? -toward : toward;
-    V3 t_local = v.to_local(t_user);
-    t_local = normalize(t_local - v.radial_local * dot(t_local, v.radial_local));
-    const double sp = std::sin(r.phi), cp = std::cos(r.phi), spsi = std::sin(r.psi);
-    const V3 phi_hat = xa * (-sp) + t_user * cp;
-    const V3 t_arr = normalize(xb * r.dr_dphi + phi_hat * RB);
-    const double tn = dot(t_arr, b.normal);
+  for (int k = 0; k < rays.n; ++k) {
+    const LensImageRay& ir = rays.ray[k];
+    if (!std::isfinite(ir.r.dphi_dpsi)) break;
+    const double sp = std::sin(ir.r.phi), spsi = std::sin(ir.r.psi);
+    const double tn = dot(ir.t_arr, b.normal);
     if (!(std::fabs(tn) > 1e-9) || !(spsi > 1e-12)) continue;
-    auto onto_plane = [&](V3 d) { return d - t_arr * (dot(d, b.normal) / tn); };
+    auto onto_plane = [&](V3 d) { return d - ir.t_arr * (dot(d, b.normal) / tn); };
     LensImageFrame& f = out[n++];
-    f.w = v.radial_local * std::cos(r.psi) + t_local * spsi;
-    f.e1 = v.radial_local * (-spsi) + t_local * std::cos(r.psi);  // towards larger psi
-    f.e2 = normalize(cross(v.radial_local, t_local));              // about the radial axis
-    f.d_e1 = onto_plane(phi_hat * (RB * r.dphi_dpsi));
-    f.d_e2 = onto_plane(normalize(cross(xa, t_user)) * (RB * sp / spsi));
+    f.w = ir.w;
+    f.e1 = v.radial_local * (-spsi) + ir.t_local * std::cos(ir.r.psi);  // towards larger psi
+    f.e2 = normalize(cross(v.radial_local, ir.t_local));                 // about the radial axis
+    f.d_e1 = onto_plane(ir.phi_hat * (rays.RB * ir.r.dphi_dpsi));
+    f.d_e2 = onto_plane(normalize(cross(rays.xa, ir.t_user)) * (rays.RB * sp / spsi));
   }
   return n;
 }
@@ -199,7 +210,6 @@ class LensConnection {
     }
   }
 
-  LensVertex vertex(const SegmentEnd& e) const { return lens_vertex(e); }
 
   // A direction from v towards light number li (of the scene's light list) and its pdf, with the point
   // aimed at; u1, u2 pick the point, u3 the image.

@@ -143,7 +143,7 @@ class PathTracer {
       const bool lens = nee && o_.light_connection == kLensConnection && lens_.applies(e);
       if (lens) {
         // Light strategy: a point on one light by area and one of its lensed images (lens_connection.h).
-        lens_v = lens_.vertex(e);
+        lens_v = lens_vertex(e);
         // The light's index and, from what is left of the same uniform number, the image's: as many random
         // numbers as the aimed connection draws, so a vanishing mass reproduces its (flat) paths.
         const double ul = rng.uniform() * double(sc_.lights.size());

@@ -322,8 +322,8 @@ class LensMap {
     }
     double p[kP];
     D1 pd[kP];
-    p_coefs(b.v * b.v, p);
     p_coefs(b * b, pd);
+    for (int i = 0; i < kP; ++i) p[i] = pd[i].v;
     double ut_v = 0.0;
     bool through = false;
     const bool turns = turning(p, b.v, ut_v, through);
