@@ -71,7 +71,7 @@ def test_the_checker_refuses_upward_and_sideways_top_floor_includes():
 PACKAGE = Path(__file__).resolve().parents[1] / "warpviz"
 PY_LAYERS = ["_native", "spacetime", "tracing", "scene", "render", "export", "viewer", "__init__", "cli"]
 PY_RANK = {name: i for i, name in enumerate(PY_LAYERS)}
-PY_RANK["_core"] = PY_RANK["io"] = PY_RANK["_native"]  # the floor: the compiled core and the file formats
+PY_RANK["_core"] = PY_RANK["io"] = PY_RANK["limits"] = PY_RANK["_native"]  # the floor: the core, file formats, limits
 
 
 def modules():

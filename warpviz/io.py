@@ -1,10 +1,13 @@
-"""Reading and writing VTK files (``.vtp`` polydata, ``.vtm`` multiblocks) with atomic replacement.
+"""Reading and writing files atomically: VTK files (``.vtp`` polydata, ``.vtm`` multiblocks) and PNGs,
+and telling whether an existing file was written by warpviz.
 
 Every writer here goes through :func:`atomic_write` (or, for a ``.vtm`` and its folder of pieces,
 the same staging idea applied to a folder): the data is first written into a hidden staging folder
 next to the target and then moved into place with :func:`os.replace`, so a reader never sees a
-half-written file and a failed write leaves an existing file untouched. PyVista and VTK are imported
-on first use, so ``import warpviz`` stays fast.
+half-written file and a failed write leaves an existing file untouched. Every file warpviz writes names
+itself (a PNG's ``Software`` text, an EXR's ``Software`` header, a ``.vtp``'s ``warpviz_version`` field),
+so :func:`written_by_warpviz` can tell the command line which existing files it may replace. PyVista, VTK,
+Pillow and OpenEXR are imported on first use, so ``import warpviz`` stays fast.
 
 Examples
 --------
@@ -31,7 +34,81 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:  # pragma: no cover
     import pyvista as pv
 
-__all__ = ["atomic_write", "read_rays", "write_vtm", "write_vtp"]
+__all__ = ["atomic_write", "read_rays", "software", "write_png", "write_vtm", "write_vtp", "written_by_warpviz"]
+
+#: The PNG text key and EXR header attribute that name the program that wrote a file.
+SOFTWARE_KEY = "Software"
+
+
+def software() -> str:
+    """``"warpviz VERSION"``: what every image warpviz writes says under :data:`SOFTWARE_KEY`."""
+    from warpviz import __version__
+
+    return f"warpviz {__version__}"
+
+
+def write_png(path: str | os.PathLike, pixels, *, text: dict[str, str] | None = None) -> Path:
+    """Write an 8-bit picture as a PNG, atomically, marked as written by warpviz.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination ``.png``; its folder must exist.
+    pixels : numpy.ndarray
+        (H, W, 3) or (H, W, 4) uint8.
+    text : dict of str, optional, keyword-only
+        More text chunks (e.g. the render's metadata).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    from PIL import Image as PILImage
+    from PIL.PngImagePlugin import PngInfo
+
+    info = PngInfo()
+    info.add_text(SOFTWARE_KEY, software())
+    for key, value in (text or {}).items():
+        info.add_text(key, value)
+    return atomic_write(_target(path, ".png"), lambda tmp: PILImage.fromarray(pixels).save(tmp, format="PNG", pnginfo=info))
+
+
+def written_by_warpviz(path: str | os.PathLike) -> bool:
+    """Whether the existing file ``path`` is one warpviz wrote (and may therefore replace).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.png``, ``.exr`` or ``.vtp`` file.
+
+    Returns
+    -------
+    bool
+        True for a PNG whose ``Software`` text or an EXR whose ``Software`` header starts with
+        ``warpviz``, or a ``.vtp`` with a ``warpviz_version`` field; False for anything else, including
+        files that cannot be read.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".png":
+            from PIL import Image as PILImage
+
+            with PILImage.open(path) as im:
+                return str(im.info.get(SOFTWARE_KEY, "")).startswith("warpviz")
+        if suffix == ".exr":
+            import OpenEXR
+
+            with OpenEXR.File(str(path), header_only=True) as f:
+                return str(f.header().get(SOFTWARE_KEY, "")).startswith("warpviz")
+        if suffix == ".vtp":
+            with open(path, "rb") as f:
+                head = f.read(1 << 16)  # the XML header, before the appended binary data
+            return b"<VTKFile" in head[:512] and b'Name="warpviz_version"' in head
+    except Exception:  # noqa: BLE001 - unreadable or not what its name says: not ours
+        return False
+    return False
 
 
 def _target(path: str | os.PathLike, suffix: str) -> Path:

@@ -6,6 +6,7 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -155,6 +156,16 @@ nb::dict render(nb::dict scene, nb::dict options) {
   }
   o.batch = option<bool>(options, "batch");
   o.threads = option<int>(options, "threads");
+  if (options.contains("crop") && !options["crop"].is_none()) {  // None: the whole image
+    const auto crop = option<std::vector<int>>(options, "crop");  // Python checked it lies in the image
+    if (crop.size() != 4) throw std::invalid_argument("render option 'crop' must be (x0, y0, width, height)");
+    for (int k = 0; k < 4; ++k) o.crop[k] = crop[k];
+  }
+  {
+    const auto names = option<std::vector<std::string>>(options, "aovs");
+    auto keep = [&](const char* name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+    o.aovs = {keep("n_steps"), keep("max_drift"), keep("redshift"), keep("status"), keep("depth"), keep("normal")};
+  }
   const auto stepper = stepper_kind(option<std::string>(options, "stepper"));
   if (options.contains("record_pixels") && !options["record_pixels"].is_none()) {
     nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu> rp;
@@ -196,20 +207,26 @@ nb::dict render(nb::dict scene, nb::dict options) {
     progress(total, total);
   }
 
-  const wv::Film& f = r.film;
+  wv::Film& f = r.film;
   const size_t W = size_t(f.width), H = size_t(f.height);
-  wv::ResolvedFilm resolved = wv::resolve(f);
+  wv::ResolvedFilm resolved = wv::resolve(f);  // frees the film's sums as it goes
   nb::dict out, aovs, stats;
   out["rgb"] = to_numpy(std::move(resolved.rgb), {H, W, 3});
-  aovs["redshift"] = to_numpy(std::vector<float>(f.redshift), {H, W});
-  aovs["n_steps"] = to_numpy(std::move(resolved.n_steps), {H, W});
-  aovs["max_drift"] = to_numpy(std::vector<float>(f.max_drift), {H, W});
-  aovs["status"] = to_numpy(std::vector<float>(f.status), {H, W});
-  aovs["depth"] = to_numpy(std::vector<float>(f.depth), {H, W});
-  aovs["normal"] = to_numpy(std::vector<float>(f.normal), {H, W, 3});
+  // The AOVs the film kept, moved (not copied) into numpy arrays.
+  auto aov = [&](const char* name, std::vector<float>&& v, size_t channels) {
+    if (!v.empty()) aovs[name] = channels == 1 ? to_numpy(std::move(v), {H, W}) : to_numpy(std::move(v), {H, W, channels});
+  };
+  aov("redshift", std::move(f.redshift), 1);
+  aov("n_steps", std::move(resolved.n_steps), 1);
+  aov("max_drift", std::move(f.max_drift), 1);
+  aov("status", std::move(f.status), 1);
+  aov("depth", std::move(f.depth), 1);
+  aov("normal", std::move(f.normal), 3);
   aovs["errors"] = to_numpy(std::move(resolved.errors), {H, W});
   aovs["samples"] = to_numpy(std::move(resolved.samples), {H, W});
   out["aovs"] = aovs;
+  stats["samples"] = resolved.samples_total;
+  stats["samples_with_errors"] = resolved.errors_total;
   out["completed"] = r.completed && !interrupted;
   nb::dict counts;
   for (int k = 0; k < wv::kNumStatuses; ++k) counts[wv::kStatusNames[k]] = r.status_counts[k];

@@ -73,7 +73,7 @@ class PathTracer {
       frames.n = frames.next = 1;
     }
     const Camera& cam = sc_.camera;
-    const size_t pix = size_t(py) * cam.width + px;
+    const size_t pix = size_t(py) * cam.width + px;  // the sample's identity in the image, whatever the window
     Rng rng(o_.seed, pix, uint64_t(s));
     V3 d = o_.pixel_sampler == kSobolPixels ? camera_.direction_stratified(px, py, o_.seed, pix, uint64_t(s))
                                             : camera_.direction(px, py, rng);
@@ -117,16 +117,7 @@ class PathTracer {
       SegmentEnd e;
       co_await segments_.segment(x, sheet, d, skip, track, st, frames, sched, e);
       close(e, sheet, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
-      if (bounce == 0 && s == 0) {
-        film.status[pix] = float(e.status);
-        double g = (e.status == kHit || e.status == kEscaped) && e.energy > 0.0 ? 1.0 / e.energy : 0.0;
-        if (e.status == kHit) g = emission_.shift(e, sc_.materials[sc_.prims[e.prim].material]);
-        film.redshift[pix] = float(g);
-        film.depth[pix] = e.status == kHit ? float(length(e.pos - cam.position)) : INFINITY;
-        if (e.status == kHit) {
-          for (int c = 0; c < 3; ++c) film.normal[3 * pix + c] = float(e.surface.normal[c]);
-        }
-      }
+      if (bounce == 0 && s == 0) first_hit_aovs(film, film.index(px, py), e);
       const V3 Le = emission_.emission(e);
       if (lens_prev) {
         const double pl = e.status == kHit ? lens_.pdf(lens_v, lens_w, e.prim, e.pos) : 0.0;
@@ -225,6 +216,20 @@ class PathTracer {
   }
 
  private:
+  // The first-hit AOVs the film keeps, from the camera geodesic `e` of sample 0 of film pixel `pix`.
+  void first_hit_aovs(Film& film, size_t pix, const SegmentEnd& e) const {
+    if (!film.status.empty()) film.status[pix] = float(e.status);
+    if (!film.redshift.empty()) {
+      double g = (e.status == kHit || e.status == kEscaped) && e.energy > 0.0 ? 1.0 / e.energy : 0.0;
+      if (e.status == kHit) g = emission_.shift(e, sc_.materials[sc_.prims[e.prim].material]);
+      film.redshift[pix] = float(g);
+    }
+    if (!film.depth.empty())
+      film.depth[pix] = e.status == kHit ? float(length(e.pos - sc_.camera.position)) : INFINITY;
+    if (!film.normal.empty() && e.status == kHit)
+      for (int c = 0; c < 3; ++c) film.normal[3 * pix + c] = float(e.surface.normal[c]);
+  }
+
   const Scene& sc_;
   const RenderOptions& o_;
   CameraRays<M> camera_;

@@ -35,25 +35,28 @@ struct SampleOut {
 inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
   for (int c = 0; c < 3; ++c) film.rgb_sum[3 * pix + c] += so.L[c];
   film.samples[pix] += 1;
-  film.steps_sum[pix] += double(so.steps);
-  film.max_drift[pix] = std::max(film.max_drift[pix], float(so.max_drift));
+  if (!film.steps_sum.empty()) film.steps_sum[pix] += double(so.steps);
+  if (!film.max_drift.empty()) film.max_drift[pix] = std::max(film.max_drift[pix], float(so.max_drift));
   if (so.error) film.errors[pix] += 1;
 }
 
-// Renders camera `cam` with o.spp samples per pixel: sample(px, py, s, film, out, recorded, stats, scheduler)
-// is sample s of pixel (px, py) as a Task (PathTracer::sample_pixel), run by run_samples.
+// Renders camera `cam` (its window o.crop, if set) with o.spp samples per pixel: sample(px, py, s, film, out,
+// recorded, stats, scheduler) is sample s of image pixel (px, py) as a Task (PathTracer::sample_pixel), run
+// by run_samples. A pixel's samples do not depend on the window, so windows of an image tile it exactly.
 template <class M, class S, class Sample>
 RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o, const Sample& sample) {
   RenderResult out;
-  const int W = cam.width, H = cam.height;
-  out.film.resize(W, H);
+  const bool whole = o.crop[2] <= 0 || o.crop[3] <= 0;
+  const int X0 = whole ? 0 : o.crop[0], Y0 = whole ? 0 : o.crop[1];
+  const int W = whole ? cam.width : o.crop[2], H = whole ? cam.height : o.crop[3];
+  out.film.resize(X0, Y0, W, H, o.aovs);
   out.num_columns = track_columns<M>();
 
-  // Recorded pixels: slot per pixel (-1 = not recorded).
+  // Recorded pixels: slot per pixel of the window (-1 = not recorded).
   std::vector<int> slot(size_t(W) * H, -1);
   std::vector<std::vector<RecordedSegment>> rec;
   for (size_t k = 0; k + 1 < o.record_pixels.size(); k += 2) {
-    const int x = o.record_pixels[k], y = o.record_pixels[k + 1];
+    const int x = o.record_pixels[k] - X0, y = o.record_pixels[k + 1] - Y0;
     if (x < 0 || y < 0 || x >= W || y >= H) continue;
     if (slot[size_t(y) * W + x] < 0) {
       slot[size_t(y) * W + x] = int(rec.size());
@@ -83,8 +86,8 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
       RenderStats st;
       auto make = [&](size_t k, SampleScheduler<M, S>* sched) {
         const size_t pix = p0 + k / ns;
-        return sample(int(pix % W), int(pix / W), pass.first + int(k % ns), out.film, outs[k], slot[pix] >= 0, st,
-                      sched);
+        return sample(X0 + int(pix % W), Y0 + int(pix / W), pass.first + int(k % ns), out.film, outs[k],
+                      slot[pix] >= 0, st, sched);
       };
       run_samples<M, S>(m, o.batch, njobs, make);
       // Summed in (pixel, sample) order, whatever order the samples finished in.

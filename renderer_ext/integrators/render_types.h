@@ -31,14 +31,16 @@ struct RenderOptions {
   bool aim_lights = true;  // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
   bool light_margin = true;  // ... and enlarge quad and disk proxies by that shift (lensed images are larger)
   int light_connection = kLensConnection;
-  int lens_images = 2;
-  int pixel_sampler = kSobolPixels;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
+  int lens_images = 2;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
+  int pixel_sampler = kSobolPixels;
   bool batch = true;       // curved space: step the geodesics of many samples together in SIMD lanes
   // Local error tolerance of pilot geodesics (at least trace.tol). A pilot only decides where a light's
   // proxy is seen from, never what a sample is worth, so its accuracy cannot bias the image.
   double pilot_tol = 1e-4;
   int threads = 0;
-  std::vector<int32_t> record_pixels;  // (x, y) pairs whose paths are recorded
+  int crop[4] = {0, 0, 0, 0};  // window (x0, y0, width, height) of the image to render; width 0: all of it
+  FilmAovs aovs;               // the AOVs the film keeps
+  std::vector<int32_t> record_pixels;  // (x, y) image pixel pairs whose paths are recorded
   // Called from the calling thread every ~20 ms with (samples done, samples total); false cancels.
   std::function<bool(int64_t, int64_t)> poll;
 };

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from warpviz.io import atomic_write
+from warpviz.io import SOFTWARE_KEY, atomic_write, software, write_png
 from warpviz.tracing import RayBundle
 
 __all__ = ["Image", "tonemap", "AOV_DESCRIPTIONS"]
@@ -40,6 +40,9 @@ AOV_DESCRIPTIONS = {
     "errors": "fraction of samples whose path had a geodesic ending in max_steps/invariant_violation/nan",
     "samples": "number of samples accumulated (less than spp after an interruption)",
 }
+
+
+_TONEMAP_PIXELS = 1 << 20  # pixels tonemapped at a time when saving a PNG
 
 
 def tonemap(rgb: np.ndarray, *, exposure: float = 1.0, method: str = "clip") -> np.ndarray:
@@ -108,9 +111,22 @@ class Image:
         """(height, width) in pixels."""
         return tuple(self.rgb.shape[:2])
 
+    @property
+    def error_fraction(self) -> float:
+        """Fraction of all samples whose path had a geodesic that failed (``max_steps``,
+        ``invariant_violation`` or ``nan``); such a sample adds nothing to its pixel, so the image is
+        darker there by this fraction on average. Per pixel: ``aovs["errors"]``."""
+        return float(self.stats.get("error_fraction", 0.0))
+
     def to_uint8(self, *, exposure: float = 1.0, method: str = "clip") -> np.ndarray:
-        """The tonemapped (H, W, 3) uint8 sRGB picture (see :func:`tonemap`)."""
-        return tonemap(self.rgb, exposure=exposure, method=method)
+        """The tonemapped (H, W, 3) uint8 sRGB picture (see :func:`tonemap`), made in bands of rows so a
+        large image needs no float64 copy of itself."""
+        rgb = np.asarray(self.rgb)
+        out = np.empty(rgb.shape[:2] + (3,), dtype=np.uint8)
+        rows = max(1, _TONEMAP_PIXELS // max(1, rgb.shape[1]))
+        for y in range(0, rgb.shape[0], rows):
+            out[y : y + rows] = tonemap(rgb[y : y + rows], exposure=exposure, method=method)
+        return out
 
     def save(self, path: str | os.PathLike, *, exposure: float = 1.0, tonemap_method: str = "clip") -> Path:
         """Write the image, atomically.
@@ -118,8 +134,9 @@ class Image:
         Parameters
         ----------
         path : str or os.PathLike
-            ``.exr``: float32 channels R, G, B plus every AOV (``normal`` as ``normal.X/Y/Z``) and the
-            metadata as header strings. ``.png``: tonemapped 8-bit sRGB.
+            ``.exr``: float32 channels R, G, B plus every AOV (``normal`` as ``normal.X/Y/Z``), the
+            metadata as the ``warpviz`` header string and ``errorFraction`` as a float attribute.
+            ``.png``: tonemapped 8-bit sRGB, the metadata as a ``warpviz`` text chunk.
         exposure, tonemap_method : keyword-only
             PNG only; see :func:`tonemap`.
 
@@ -133,10 +150,8 @@ class Image:
         if suffix == ".exr":
             return atomic_write(path, self._write_exr)
         if suffix == ".png":
-            from PIL import Image as PILImage
-
             pixels = self.to_uint8(exposure=exposure, method=tonemap_method)
-            return atomic_write(path, lambda tmp: PILImage.fromarray(pixels).save(tmp, format="PNG"))
+            return write_png(path, pixels, text={"warpviz": json.dumps(self.metadata, sort_keys=True, default=str)})
         raise ValueError(f"cannot save {str(path)!r}: use a .exr or .png file name")
 
     def _write_exr(self, tmp: Path) -> None:
@@ -158,6 +173,8 @@ class Image:
             "compression": OpenEXR.ZIP_COMPRESSION,
             "type": OpenEXR.scanlineimage,
             "warpviz": json.dumps(self.metadata, sort_keys=True, default=str),
+            SOFTWARE_KEY: software(),
+            "errorFraction": float(self.error_fraction),
         }
         with OpenEXR.File(header, channels) as f:
             f.write(str(tmp))

@@ -24,7 +24,6 @@ A diffuse white sphere under a uniform white sky, in flat space, reflects exactl
 
 from __future__ import annotations
 
-import copy
 import math
 import os
 from collections.abc import Callable
@@ -32,12 +31,17 @@ from collections.abc import Callable
 import numpy as np
 
 from warpviz._native import core
+from warpviz.limits import MAX_SEED, MAX_SPP, image_side, tolerance_range
 from warpviz.render.image import Image
+from warpviz.render.memory import check_render_memory
 from warpviz.scene.native import native_scene
 from warpviz.spacetime import metric_from_params
 from warpviz.tracing import STEPPERS, RayBundle, default_max_drift, recorded_point_data
 
-__all__ = ["render", "DEFAULT_OPTIONS"]
+__all__ = ["render", "DEFAULT_OPTIONS", "OPTIONAL_AOVS"]
+
+#: The AOVs a render computes only when asked (``aovs=``); ``errors`` and ``samples`` it always keeps.
+OPTIONAL_AOVS = ("redshift", "n_steps", "max_drift", "status", "depth", "normal")
 
 #: Renderer options and their defaults (see docs/native-scene.md).
 DEFAULT_OPTIONS = {
@@ -58,14 +62,16 @@ DEFAULT_OPTIONS = {
     # curved space: "lens" samples every lensed image of a light where the metric is static and spherical
     # (integrators/lens_connection.h), elsewhere (Kerr) the aimed proxies; "aimed" uses those everywhere
     "light_connection": "lens",
-    "lens_images": 2,
+    "lens_images": 2,  # image orders the lens connection samples: 0 direct, 1 round the far side, ...
     # where a camera sample goes in its pixel: "sobol" = stratified (Owen-scrambled Sobol, any sample
     # count), "independent" = uniform jitter from the sample's random numbers
-    "pixel_sampler": "sobol",  # image orders the lens connection samples: 0 direct, 1 round the far side, ...
+    "pixel_sampler": "sobol",
     "aim_lights": True,  # curved space: aim light samples with pilot geodesics (integrators/light_aim.h)
     "light_margin": True,  # ... and enlarge quad/disk light proxies by the aim's correction (lensed images)
     "pilot_tol": 1e-4,  # tolerance of those pilots (at least tol); they only aim, so it cannot bias
     "batch": True,  # curved space: many samples' geodesics step together in SIMD lanes (same image either way)
+    "aovs": OPTIONAL_AOVS,  # the optional AOVs computed (radiance, errors and samples always are)
+    "crop": None,  # (x0, y0, width, height): render only this window of the image
 }
 
 
@@ -106,6 +112,8 @@ def render(
     light_margin: bool | None = None,
     pilot_tol: float | None = None,
     batch: bool | None = None,
+    aovs=None,
+    crop=None,
     progress: Callable[[int, int], object] | None = None,
     record_pixels=None,
 ) -> Image:
@@ -169,6 +177,13 @@ def render(
     batch : bool, optional, keyword-only
         In curved space, step the geodesics of many samples together in SIMD lanes (default True,
         1.5-1.9x faster). The image is bit-identical either way.
+    aovs : sequence of str, optional, keyword-only
+        The optional AOVs to compute, of :data:`OPTIONAL_AOVS` (default: all of them). One not asked for
+        costs neither memory nor time; ``errors`` and ``samples`` are always computed.
+    crop : tuple of int, optional, keyword-only
+        ``(x0, y0, width, height)``: render only this window of the image (pixel ``(x0, y0)`` is its top
+        left). A pixel's samples do not depend on the window, so windows that tile the image give exactly
+        the pixels of the whole render: a way to render an image larger than memory in parts.
     progress : callable, optional, keyword-only
         Called about every 20 ms as ``progress(samples_done, samples_total)`` from the calling thread.
         Raising ``KeyboardInterrupt`` in it stops the render like Ctrl-C.
@@ -178,13 +193,17 @@ def render(
     Returns
     -------
     Image
-        ``rgb`` (H, W, 3) float32 linear radiance, ``aovs``, ``stats``, ``rays``. After Ctrl-C the
-        partial image is returned with ``completed=False``.
+        ``rgb`` (H, W, 3) float32 linear radiance (H, W: the crop window's size, if one is given),
+        ``aovs``, ``stats``, ``rays`` and ``error_fraction`` (the fraction of samples whose path had a
+        geodesic that failed). After Ctrl-C the partial image is returned with ``completed=False``.
 
     Raises
     ------
     ValueError
         Invalid scene or option (the message names the key).
+    warpviz.render.memory.RenderTooLarge
+        The render would need more memory than the machine has free (a ValueError; the message gives
+        the estimate and what to do).
     """
     native, options, source = _resolve(scene, flat=flat, width=width, height=height, paper=paper)
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
@@ -198,7 +217,11 @@ def render(
             options[key] = value
     for key in ("spp", "max_depth"):
         options[key] = _positive_int(key, options[key])
+    if options["spp"] > MAX_SPP:
+        raise ValueError(f"spp must be at most {MAX_SPP} (2**31 - 1), got {options['spp']}")
     options["seed"] = _positive_int("seed", options["seed"], allow_zero=True)
+    if options["seed"] > MAX_SEED:
+        raise ValueError(f"seed must be in [0, 2**63 - 1], got {options['seed']}")
     options["rr_depth"] = _positive_int("rr_depth", options["rr_depth"])
     for key, lo, hi in (("tol", 0.0, 1.0), ("pilot_tol", 0.0, 1.0), ("chord_tolerance", 0.0, math.inf),
                         ("escape_radius", 0.0, math.inf)):  # fmt: skip
@@ -217,25 +240,30 @@ def render(
         raise ValueError(f"lens_images must be 1-4, got {options['lens_images']}")
     if options["stepper"] not in STEPPERS:
         raise ValueError(f"unknown stepper {options['stepper']!r} (known: {', '.join(STEPPERS)})")
+    lo, hi = tolerance_range(options["stepper"])
+    if not lo <= options["tol"] <= hi:
+        raise ValueError(f"tol = {options['tol']:g} is outside what {options['stepper']} can meet in double "
+                         f"precision: use [{lo:g}, {hi:g}]")  # fmt: skip
     options["max_drift"] = (default_max_drift(options["tol"]) if options["max_drift"] is None
                             else _real_in("max_drift", options["max_drift"], 0.0, math.inf))  # fmt: skip
     options["threads"] = _positive_int("threads", threads, allow_zero=True)
     if progress is not None and not callable(progress):
         raise ValueError("progress must be a callable(done, total)")
     options["progress"] = progress
-    pixels = None
-    if record_pixels is not None:
-        pixels = np.ascontiguousarray(np.asarray(record_pixels, dtype=np.int64).reshape(-1, 2))
-        w, h = native["camera"]["width"], native["camera"]["height"]
-        bad = (pixels[:, 0] < 0) | (pixels[:, 0] >= w) | (pixels[:, 1] < 0) | (pixels[:, 1] >= h)
-        if bad.any():
-            i = int(np.argmax(bad))
-            raise ValueError(f"record_pixels row {i}: pixel {tuple(pixels[i])} lies outside the {w}x{h} image")
-        pixels = pixels.astype(np.int32)
-    options["record_pixels"] = pixels
+    for key, value in (("aovs", aovs), ("crop", crop)):
+        if value is not None:
+            options[key] = value
+    options["aovs"] = _aov_names(options["aovs"])
+    w, h = native["camera"]["width"], native["camera"]["height"]
+    x0, y0, cw, ch = options["crop"] = _crop(options["crop"], w, h)
+    options["record_pixels"] = _record_pixels(record_pixels, (x0, y0, cw, ch), (w, h))
 
     metric = _metric(native["metric"])  # validates the parameters with the metric's own messages
+    check_render_memory(cw, ch, aovs=options["aovs"], image=None if (cw, ch) == (w, h) else (w, h))
     raw = core.render(native, options)
+    stats = _plain(raw["stats"])
+    error_fraction = stats["samples_with_errors"] / stats["samples"] if stats["samples"] else 0.0
+    stats["error_fraction"] = error_fraction
     metadata = {
         "metric": native["metric"]["name"],
         "metric_params": list(native["metric"].get("params", [])),
@@ -249,17 +277,73 @@ def render(
         "light_sampling": bool(options["light_sampling"]),
         "scene": source,
         "completed": bool(raw["completed"]),
+        "error_fraction": error_fraction,
     }
+    if (cw, ch) != (w, h):
+        metadata["crop"] = [x0, y0, cw, ch]
     rays = _bundle(raw["rays"], metric, options) if "rays" in raw else None
     return Image(
         rgb=raw["rgb"],
         aovs=dict(raw["aovs"]),
         completed=bool(raw["completed"]),
-        stats=_plain(raw["stats"]),
+        stats=stats,
         metadata=metadata,
         rays=rays,
         native_scene=native,
     )
+
+
+def _aov_names(value) -> list[str]:
+    """The optional AOVs asked for, checked against :data:`OPTIONAL_AOVS`."""
+    if isinstance(value, str) or not all(isinstance(a, str) for a in _iterable("aovs", value)):
+        raise ValueError(f"aovs must be a list of AOV names (of {', '.join(OPTIONAL_AOVS)}), got {value!r}")
+    names = []
+    for a in value:
+        if a in ("errors", "samples"):
+            continue  # always computed
+        if a not in OPTIONAL_AOVS:
+            raise ValueError(f"aovs: unknown AOV {a!r} (known: {', '.join(OPTIONAL_AOVS)}, errors, samples)")
+        names.append(a)
+    return names
+
+
+def _iterable(name: str, value):
+    try:
+        return list(value)
+    except TypeError:
+        raise ValueError(f"{name} must be a list, got {value!r}") from None
+
+
+def _crop(value, width: int, height: int) -> list[int]:
+    """The crop window (x0, y0, w, h), checked to lie in the width x height image; None: the whole image."""
+    if value is None:
+        return [0, 0, width, height]
+    items = _iterable("crop", value)
+    if len(items) != 4 or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in items):
+        raise ValueError(f"crop must be four integers (x0, y0, width, height), got {value!r}")
+    x0, y0, w, h = (int(v) for v in items)
+    if x0 < 0 or y0 < 0 or w < 1 or h < 1 or x0 + w > width or y0 + h > height:
+        raise ValueError(f"crop {(x0, y0, w, h)} must be a window of at least one pixel inside the "
+                         f"{width}x{height} image (0 <= x0, x0 + width <= {width}, 0 <= y0, y0 + height <= {height})")
+    return [x0, y0, w, h]
+
+
+def _record_pixels(value, crop: tuple[int, int, int, int], size: tuple[int, int]) -> np.ndarray | None:
+    """record_pixels as a (K, 2) int32 array of image pixels inside the rendered window."""
+    if value is None:
+        return None
+    arr = np.asarray(value)
+    if arr.dtype.kind not in "iu" or arr.size == 0 or arr.size % 2 or (arr.ndim == 2 and arr.shape[1] != 2) or arr.ndim > 2:
+        raise ValueError(f"record_pixels must be integer (x, y) pixel coordinates of shape (K, 2), got "
+                         f"{arr.dtype} of shape {arr.shape}")  # fmt: skip
+    pixels = arr.astype(np.int64).reshape(-1, 2)
+    x0, y0, w, h = crop
+    bad = (pixels[:, 0] < x0) | (pixels[:, 0] >= x0 + w) | (pixels[:, 1] < y0) | (pixels[:, 1] >= y0 + h)
+    if bad.any():
+        i = int(np.argmax(bad))
+        where = f"the {size[0]}x{size[1]} image" if (w, h) == size else f"the crop window {tuple(crop)}"
+        raise ValueError(f"record_pixels row {i}: pixel ({pixels[i, 0]}, {pixels[i, 1]}) lies outside {where}")
+    return np.ascontiguousarray(pixels, dtype=np.int32)
 
 
 def _metric(spec: dict):
@@ -275,15 +359,13 @@ def _resolve(scene, *, flat: bool, width, height, paper: bool) -> tuple[dict, di
     """The native scene dict, the renderer options and a description of where the scene came from."""
     options = dict(DEFAULT_OPTIONS)
     if isinstance(scene, dict):
-        native = copy.copy(scene)
-        native["camera"] = dict(scene["camera"])
-        if width is not None:
-            native["camera"]["width"] = _positive_int("width", width)
-        if height is not None:
-            native["camera"]["height"] = _positive_int("height", height)
+        native = native_scene(scene)  # checked (a SceneError names a missing or bad key), a new dict
+        for key, value in (("width", width), ("height", height)):
+            if value is not None:
+                native["camera"][key] = image_side(key, value)
         if flat:
             native["metric"] = {"name": "minkowski", "params": []}
-        return native_scene(native), options, None  # checked, every optional key filled in
+        return native, options, None
     from warpviz.scene import Scene, load_scene
 
     if isinstance(scene, (str, os.PathLike)):

@@ -19,10 +19,10 @@ Examples
 from __future__ import annotations
 
 import copy
-import numbers
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from warpviz.limits import image_side
 from warpviz.scene.native import native_scene
 from warpviz.scene.reader import _Reader
 from warpviz.spacetime import Metric
@@ -141,10 +141,8 @@ class Scene:
             every key written (:func:`warpviz.scene.native.native_scene`).
         """
         w, h = self.size(paper=paper)
-        for name, value in (("width", width), ("height", height)):
-            if value is not None and (isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1):
-                raise ValueError(f"{name} must be a positive integer, got {value!r}")
-        w, h = int(width or w), int(height or h)
+        w = w if width is None else image_side("width", width)
+        h = h if height is None else image_side("height", height)
         camera = dict(copy.deepcopy(self.camera), width=w, height=h)
         shapes = copy.deepcopy(self._shapes)
         environment = copy.deepcopy(self._environment)

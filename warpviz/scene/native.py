@@ -43,6 +43,7 @@ from typing import Any
 
 import numpy as np
 
+from warpviz.limits import MAX_IMAGE_SIDE
 from warpviz._native import core
 from warpviz.scene.reader import SceneError
 from warpviz.spacetime import metric_from_params
@@ -270,8 +271,8 @@ def native_camera(camera: Mapping[str, Any], where: str = "camera") -> dict:
     for key in ("width", "height"):
         value = _get(c, key, where, REQUIRED)
         ok = _is_real(value) and math.isfinite(float(value)) and float(value) == math.floor(float(value))
-        if not (ok and 1 <= float(value) <= 65536):
-            _fail(f"{where}.width/height", "must be positive integers")
+        if not (ok and 1 <= float(value) <= MAX_IMAGE_SIDE):
+            _fail(f"{where}.{key}", f"must be an integer in [1, {MAX_IMAGE_SIDE}], got {value!r}")
         size.append(int(value))
     out["width"], out["height"] = size
     out["sheet"] = _sheet(c, where, table=t)

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from warpviz.limits import MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, tolerance_range
 from warpviz._native import core, registered_metrics
 from warpviz.scene.native import SCHEMA
 from warpviz.scene.reader import _describe, _Reader, did_you_mean, key_name
@@ -82,8 +83,8 @@ def _sheet(r: _Reader, tbl: dict, path: tuple, *, ellis: bool) -> int:
 
 
 _RENDER_CHECKS = {
-    "width": ("integer", 1, 16384), "height": ("integer", 1, 16384), "spp": ("integer", 1, None),
-    "seed": ("integer", 0, 2**63 - 1), "max_depth": ("integer", 1, 10000), "rr_depth": ("integer", 0, None),
+    "width": ("integer", 1, MAX_IMAGE_SIDE), "height": ("integer", 1, MAX_IMAGE_SIDE), "spp": ("integer", 1, MAX_SPP),
+    "seed": ("integer", 0, MAX_SEED), "max_depth": ("integer", 1, 10000), "rr_depth": ("integer", 0, None),
     "light_sampling": ("boolean",), "stepper": ("choice", STEPPERS), "tol": ("real", 0.0, 1.0),
     "max_steps": ("integer", 1, None), "escape_radius": ("real", 0.0, None), "max_drift": ("real", 0.0, None),
     "chord_tolerance": ("real", 0.0, None),
@@ -106,6 +107,13 @@ def _render_table(r: _Reader, path: tuple, tbl: Any, *, allow_paper: bool) -> di
             out[key] = r.boolean(tbl, path, key)
         else:
             out[key] = r.choice(tbl, path, key, args[0])
+    if "tol" in out:
+        # Without a stepper here, the renderer's (dopri5 by default; render() checks the one it uses).
+        stepper = out.get("stepper", "dopri5")
+        lo, hi = tolerance_range(stepper)
+        if not lo <= out["tol"] <= hi:
+            raise r.error(path + ("tol",), f"{key_name(path + ('tol',))} = {out['tol']:g} is outside what {stepper} "
+                          f"can meet in double precision: use [{lo:g}, {hi:g}]")  # fmt: skip
     return out
 
 

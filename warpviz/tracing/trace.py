@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from warpviz._native import core, registered_metrics
+from warpviz.limits import tolerance_range
 from warpviz.spacetime import Metric, metric_from_dict
 from warpviz.tracing.rays import RayBundle, recorded_point_data
 
@@ -22,7 +23,11 @@ def default_max_drift(tol: float) -> float:
 
 
 def _rows(name: str, value: Any) -> np.ndarray:
-    arr = np.asarray(value, dtype=np.float64)
+    raw = np.asarray(value)
+    if raw.dtype.kind not in "biuf":
+        raise TypeError(f"{name} must be real numbers, got {raw.dtype} values"
+                        + (" (the imaginary parts would be lost)" if raw.dtype.kind == "c" else ""))  # fmt: skip
+    arr = raw.astype(np.float64)
     if arr.ndim == 1:
         arr = arr[None, :]
     if arr.ndim != 2 or arr.shape[1] != 3:
@@ -80,7 +85,8 @@ def trace(
     tol : float, keyword-only
         Local relative + absolute error per step for ``dopri5``/``dop853``. For ``rk4`` it sets how
         far the step is halved near the mass: no step exceeds ``tol ** 0.25`` times the distance to
-        the centre. Default 1e-9.
+        the centre. Default 1e-9. Usable: [1e-15, 0.1] for ``dopri5``/``dop853``, [1e-12, 0.1] for
+        ``rk4`` (:data:`warpviz.limits.TOLERANCE_RANGES`); outside, a ValueError.
     stepper : {"dopri5", "dop853", "rk4"}, keyword-only
         ``dopri5`` (default, adaptive with dense output), ``dop853`` (high-accuracy reference, with a
         7th-order dense output), ``rk4`` (the seed paper's fixed step with halving: the benchmark baseline).
@@ -135,6 +141,9 @@ def trace(
     if stepper not in STEPPERS:
         raise ValueError(f"unknown stepper {stepper!r}; choose one of {', '.join(STEPPERS)}")
     tol = float(_number("tol", tol, lo=0.0, hi=1.0))
+    lo, hi = tolerance_range(stepper)
+    if not lo <= tol <= hi:
+        raise ValueError(f"tol = {tol:g} is outside what {stepper} can meet in double precision: use [{lo:g}, {hi:g}]")
     max_steps = int(_number("max_steps", max_steps, lo=0, hi=2**62, integer=True))
     escape_radius = float(_number("escape_radius", escape_radius, lo=0.0))
     threads = int(_number("threads", threads, lo=-1, hi=4096, integer=True))
@@ -151,11 +160,14 @@ def trace(
         directions = np.broadcast_to(directions, origins.shape)
     if origins.shape != directions.shape:
         raise ValueError(f"origins {origins.shape} and directions {directions.shape} must have the same number of rows")
-    norms = np.linalg.norm(directions, axis=1)
-    bad = np.flatnonzero(~(norms > 0.0))
+    # Normalised after scaling by the largest component, so neither 1e308 (whose square overflows) nor
+    # 5e-324 (whose square underflows) loses the direction.
+    scale = np.max(np.abs(directions), axis=1)
+    bad = np.flatnonzero(~(scale > 0.0))
     if bad.size:
         raise ValueError(f"directions[{bad[0]}] has zero length")
-    directions = np.ascontiguousarray(directions / norms[:, None])
+    scaled = directions / scale[:, None]
+    directions = np.ascontiguousarray(scaled / np.linalg.norm(scaled, axis=1)[:, None])
     origins = np.ascontiguousarray(origins)
     n = origins.shape[0]
 

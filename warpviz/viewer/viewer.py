@@ -166,6 +166,6 @@ def view(
 
 def _save_screenshot(plotter, path: str | os.PathLike) -> Path:
     """Render and write a PNG of the window, atomically."""
-    from warpviz.io import atomic_write
+    from warpviz.io import write_png
 
-    return atomic_write(Path(path), lambda tmp: plotter.screenshot(str(tmp)))
+    return write_png(path, plotter.screenshot(return_img=True))

@@ -1,0 +1,181 @@
+"""How much memory a render needs, and whether the machine has it, before anything is allocated.
+
+A render's memory grows with its pixel count: the core's film (double sums of radiance, sample and error
+counts, and the AOVs asked for), the float32 image and AOVs handed to Python, and the copies made while
+saving. :func:`render_bytes` adds these up from the film's layout (``renderer_ext/film/film.h``);
+:func:`check_render_memory` compares the estimate with the memory the machine has free (the smaller of
+``MemAvailable`` and the process's cgroup limit, or ``WARPVIZ_MEMORY_LIMIT`` where set) and refuses, with a
+:class:`RenderTooLarge` error naming the size, the estimate and what to do, a render that would not fit.
+
+Examples
+--------
+>>> from warpviz.render.memory import render_bytes
+>>> render_bytes(1000, 1000, aovs=())  # radiance, samples and errors only: 44 bytes per pixel
+44000000
+>>> render_bytes(1000, 1000, aovs=("depth", "normal")) > render_bytes(1000, 1000, aovs=())
+True
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Iterable
+from pathlib import Path
+
+__all__ = ["RenderTooLarge", "render_bytes", "available_memory", "check_render_memory", "format_bytes"]
+
+# Bytes per pixel, from renderer_ext/film/film.h and bindings/module.cpp.
+#: While the core resolves its film: the film's double radiance sums (24), sample and error counts (4 + 4)
+#: and the float32 radiance they become (12).
+_CORE = 44
+#: What the returned image keeps: float32 radiance (12), errors and samples (4 + 4).
+_IMAGE = 20
+#: Saving copies the radiance once more (the EXR's R, G, B channels, or the PNG's 8-bit pixels and their
+#: compressed stream).
+_SAVE = 12
+#: Each optional AOV: bytes in the core's film, and in the returned image (the first-hit AOVs' numpy
+#: arrays are the film's own, moved; n_steps is a double sum resolved to float32).
+AOV_BYTES = {
+    "n_steps": (8, 4),
+    "max_drift": (4, 4),
+    "redshift": (4, 4),
+    "status": (4, 4),
+    "depth": (4, 4),
+    "normal": (12, 12),
+}
+#: Kept free beside the estimate: the interpreter, the extension, the scene and the samples in flight.
+_HEADROOM = 256 * 2**20
+#: A render may use at most this fraction of the memory that is free.
+_FRACTION = 0.8
+
+
+class RenderTooLarge(ValueError):
+    """A render would need more memory than the machine has free (bad input: exit code 2 on the CLI)."""
+
+
+def render_bytes(width: int, height: int, *, aovs: Iterable[str]) -> int:
+    """Peak memory, in bytes, that rendering and saving an image needs.
+
+    Parameters
+    ----------
+    width, height : int
+        Pixels rendered (the crop window's size, if one is given).
+    aovs : iterable of str, keyword-only
+        The optional AOVs computed (``n_steps``, ``max_drift``, ``redshift``, ``status``, ``depth``,
+        ``normal``); radiance, ``errors`` and ``samples`` are always kept.
+
+    Returns
+    -------
+    int
+        The estimate, without the fixed cost of the process (:data:`_HEADROOM` covers that).
+    """
+    extra = set(aovs) & set(AOV_BYTES)
+    film = sum(AOV_BYTES[a][0] for a in extra)
+    kept = sum(AOV_BYTES[a][1] for a in extra)
+    # The core's peak holds the film and the radiance being resolved; once it returns, Python holds the
+    # image with its AOVs and what saving copies.
+    return int(width) * int(height) * max(_CORE + film, _IMAGE + kept + _SAVE)
+
+
+def _parse_bytes(text: str) -> int:
+    m = re.fullmatch(r"\s*(\d+(?:\.\d*)?)\s*([kKmMgGtT]?)i?[bB]?\s*", text)
+    if not m:
+        raise ValueError(f"WARPVIZ_MEMORY_LIMIT must be a size such as 4G or 512M, got {text!r}")
+    scale = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}[m.group(2).lower()]
+    return int(float(m.group(1)) * scale)
+
+
+def _cgroup_free() -> int | None:
+    """Bytes this process's cgroup still allows (v2 or v1), or None where there is no limit."""
+    for limit, usage in (("memory.max", "memory.current"), ("memory/memory.limit_in_bytes", "memory/memory.usage_in_bytes")):
+        try:
+            cap = Path("/sys/fs/cgroup", limit).read_text().strip()
+            used = Path("/sys/fs/cgroup", usage).read_text().strip()
+        except OSError:
+            continue
+        if cap.isdigit() and used.isdigit() and int(cap) < 2**60:
+            return max(0, int(cap) - int(used))
+    return None
+
+
+def available_memory() -> int | None:
+    """Bytes of memory a render may count on now, or None where the machine does not say.
+
+    ``WARPVIZ_MEMORY_LIMIT`` (e.g. ``4G``), where set, is used instead of what the machine reports.
+
+    Returns
+    -------
+    int or None
+        The smaller of ``MemAvailable`` (``/proc/meminfo``; elsewhere the free physical pages) and the
+        cgroup's remaining limit.
+    """
+    override = os.environ.get("WARPVIZ_MEMORY_LIMIT")
+    if override:
+        return _parse_bytes(override)
+    free = None
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                free = int(line.split()[1]) * 1024
+                break
+    except (OSError, ValueError, IndexError):
+        free = None
+    if free is None:
+        try:
+            free = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        except (ValueError, OSError, AttributeError):
+            free = None
+    group = _cgroup_free()
+    candidates = [v for v in (free, group) if v is not None]
+    return min(candidates) if candidates else None
+
+
+def format_bytes(n: float) -> str:
+    """``n`` bytes for people: ``'1.5 GB'`` (powers of 1024)."""
+    for unit in ("B", "KB", "MB", "GB", "TB"):
+        if abs(n) < 1024 or unit == "TB":
+            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
+        n /= 1024
+    raise AssertionError("unreachable")
+
+
+def check_render_memory(width: int, height: int, *, aovs: Iterable[str], image: tuple[int, int] | None = None) -> int:
+    """Refuse a render that would not fit in memory, before it allocates anything.
+
+    Parameters
+    ----------
+    width, height : int
+        Pixels rendered (a crop window's size, if one is given).
+    aovs : iterable of str, keyword-only
+        The optional AOVs computed.
+    image : tuple of int, optional, keyword-only
+        (width, height) of the whole image when a window of it is rendered (for the message).
+
+    Returns
+    -------
+    int
+        The estimate in bytes.
+
+    Raises
+    ------
+    RenderTooLarge
+        The estimate exceeds 80 % of the free memory, less a fixed headroom.
+    """
+    aovs = tuple(aovs)
+    need = render_bytes(width, height, aovs=aovs)
+    free = available_memory()
+    if free is None or need <= _FRACTION * max(0, free - _HEADROOM):
+        return need
+    size = f"{width}x{height}" + (f" window of the {image[0]}x{image[1]} image" if image else "")
+    per_pixel = need / max(1, width * height)
+    fits = int((_FRACTION * max(0, free - _HEADROOM) / per_pixel) ** 0.5)
+    extra = [a for a in aovs if a in AOV_BYTES]
+    hints = [f"a smaller size (about {fits}x{fits} fits)", "rendering it in windows (tiles) with crop= / --crop"]
+    if extra:
+        hints.append(f"fewer AOVs (asked for: {', '.join(extra)}; a PNG needs none)")
+    source = "WARPVIZ_MEMORY_LIMIT" if os.environ.get("WARPVIZ_MEMORY_LIMIT") else "free on this machine"
+    raise RenderTooLarge(
+        f"a {size} render needs about {format_bytes(need)} ({per_pixel:.0f} bytes per pixel), more than the "
+        f"{format_bytes(free)} {source} allows; use {', or '.join(hints)}"
+    )
