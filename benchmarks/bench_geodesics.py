@@ -7,7 +7,7 @@ rays), plus the number of pixels whose escaped/captured classification differs. 
 then run at the cheapest tolerance whose error is no worse than dopri5's, for an equal-error comparison.
 Every stepper traces in SIMD batches (the default); dopri5 at tol 1e-8 also one ray at a time.
 
-Run from the repository root (results go to benchmarks/results/geodesics.csv):
+Run from the repository root (results go to benchmarks/results/geodesics.csv, or ``--out DIR``):
 
     python benchmarks/bench_geodesics.py            # 128 x 128 image plane, ~1 minute
     python benchmarks/bench_geodesics.py --size 32  # quick look
@@ -62,7 +62,8 @@ def main(argv=None) -> list[dict]:
     ap.add_argument("--size", type=int, default=128, help="image plane is size x size rays")
     ap.add_argument("--rk4-subset", type=int, default=16, help="trace every Nth ray with rk4 (it is slow)")
     ap.add_argument("--repeat", type=int, default=3, help="best of this many timings per dopri5/dop853 run")
-    ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "geodesics.csv")
+    ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results",
+                    help="output folder for geodesics.csv (default benchmarks/results)")  # fmt: skip
     args = ap.parse_args(argv)
 
     origin, dirs = image_plane(args.size)
@@ -109,12 +110,13 @@ def main(argv=None) -> list[dict]:
         speedup = (d5[2] / d5[1]) / (rk[2] / rk[1])
         print(f"  dopri5 (tol 1e-8) vs seed rk4 at equal or better error: {speedup:.1f}x faster")
         print(f"  SIMD batches vs one ray at a time (identical results): {d5_single[1] / d5[1]:.1f}x faster\n")
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    with args.out.open("w", newline="") as f:
+    args.out.mkdir(parents=True, exist_ok=True)
+    path = args.out / "geodesics.csv"
+    with path.open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    print(f"wrote {args.out}")
+    print(f"wrote {path}")
     return rows
 
 

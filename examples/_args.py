@@ -15,6 +15,25 @@ def parse_size(text: str) -> tuple[int, int]:
     return width, height
 
 
+def positive_int(text: str) -> int:
+    """An integer >= 1, for ``--spp``."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
+def out_folder(text: str) -> Path:
+    """A folder to write into, for ``--out``: it may not exist yet, but must not be a file."""
+    path = Path(text)
+    if path.exists() and not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is a file; --out names a folder to write the results into")
+    return path
+
+
 def example_parser(doc: str, *, size: tuple[int, int]) -> argparse.ArgumentParser:
     """The options every example takes: ``--size WxH``, ``--spp`` and ``--out`` (default examples/output).
 
@@ -27,7 +46,7 @@ def example_parser(doc: str, *, size: tuple[int, int]) -> argparse.ArgumentParse
     """
     parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
     parser.add_argument("--size", type=parse_size, default=size, help=f"image size WxH (default {size[0]}x{size[1]})")
-    parser.add_argument("--spp", type=int, default=4, help="samples per pixel (default 4)")
-    parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / "output",
+    parser.add_argument("--spp", type=positive_int, default=4, help="samples per pixel (default 4)")
+    parser.add_argument("--out", type=out_folder, default=Path(__file__).resolve().parent / "output",
                         help="output folder (default examples/output)")
     return parser

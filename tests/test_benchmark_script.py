@@ -10,8 +10,8 @@ import bench_geodesics  # noqa: E402
 
 
 def test_geodesic_benchmark_runs_and_writes_csv(tmp_path):
-    out = tmp_path / "g.csv"
-    rows = bench_geodesics.main(["--size", "6", "--rk4-subset", "9", "--out", str(out)])
+    out = tmp_path / "geodesics.csv"
+    rows = bench_geodesics.main(["--size", "6", "--rk4-subset", "9", "--out", str(tmp_path)])
     steppers = {r["stepper"] for r in rows}
     assert steppers == {"dopri5", "dop853", "rk4"}
     with out.open() as f:

@@ -135,7 +135,7 @@ def test_render_passes_options_and_reports_interruption(tmp_path, monkeypatch):
     assert isinstance(scene, Scene) and scene.path.name == "fig07_schwarzschild_cornell.toml"
     assert kw == {"spp": 3, "width": 20, "height": 10, "seed": 5, "threads": 2, "flat": True, "light_sampling": False,
                   "paper": True, "progress": kw["progress"], "record_pixels": None,
-                  "light_connection": None}  # fmt: skip
+                  "light_connection": None, "crop": None, "aovs": []}  # fmt: skip (a PNG needs no AOVs)
 
 
 def test_render_default_output_and_aov_selection(tmp_path, monkeypatch):
@@ -191,7 +191,8 @@ def test_render_writes_exr_with_the_scene_aovs(tmp_path):
         rgb = channels["RGB"].pixels if "RGB" in channels else np.stack([channels[c].pixels for c in "RGB"], -1)
     assert rgb.shape == (12, 16, 3) and rgb.dtype == np.float32 and np.isfinite(rgb).all() and rgb.max() > 0
     assert {"redshift", "n_steps", "max_drift", "status"} <= names  # fig02's [outputs] aovs
-    assert not names & {"depth", "normal.X", "samples"}
+    assert {"errors", "samples"} <= names  # always: which pixels lost samples, and how many each has
+    assert not names & {"depth", "normal.X"}
 
 
 @needs_render
@@ -247,10 +248,11 @@ def test_view_without_a_viewer_is_a_clear_error(monkeypatch):
 def test_view_hands_scenes_and_files_to_the_viewer(monkeypatch, tmp_path):
     seen = []
     monkeypatch.setattr(cli, "_api", lambda name, module: lambda obj, **kw: seen.append((obj, kw)))
+    monkeypatch.setenv("DISPLAY", ":0")  # a window could open (the fake viewer opens none)
+    monkeypatch.delenv("PYVISTA_OFF_SCREEN", raising=False)
     assert invoke("view", "fig07").exit_code == 0
     assert isinstance(seen[-1][0], Scene) and seen[-1][0].path.name.startswith("fig07") and seen[-1][1] == {}
-    rays = tmp_path / "rays.vtp"
-    rays.write_text("")
+    rays = wv.trace(wv.Minkowski(), [0, 0, 0], [1, 0, 0], record=True).save(tmp_path / "rays.vtp")
     shot = tmp_path / "view.png"
     assert invoke("view", rays, "--pixels", "3,4", "--screenshot", shot).exit_code == 0
     obj, kw = seen[-1]
@@ -272,8 +274,8 @@ def test_view_writes_a_screenshot_headless(tmp_path, monkeypatch):
 
 
 def test_bench_runs_the_benchmark_script(tmp_path):
-    out = tmp_path / "g.csv"
-    result = invoke("bench", "--size", "4", "--rk4-subset", "9", "--out", out)
+    out = tmp_path / "geodesics.csv"
+    result = invoke("bench", "--size", "4", "--rk4-subset", "9", "--out", tmp_path)
     assert result.exit_code == 0, result.output
     with out.open() as f:
         assert {row["stepper"] for row in csv.DictReader(f)} == {"dopri5", "dop853", "rk4"}

@@ -4,8 +4,11 @@ Commands: ``render``, ``trace``, ``view``, ``validate``, ``scenes``, ``bench``, 
 --help`` describes each. A scene is given as a path to a TOML file or as the name of a shipped scene
 (``fig07``; see :mod:`warpviz.scene.catalog`).
 
-Exit codes: 0 success; 1 runtime error; 2 bad input (invalid scene file, bad option; the message goes to
-stderr without a traceback); 130 interrupted by Ctrl-C (``render`` first saves the partial image). Set
+Exit codes: 0 success; 1 runtime error; 2 bad input (invalid scene file, bad option, an image too large
+for the machine's memory, an output that may not be written; the message goes to stderr without a
+traceback, and nothing is written); 3 the render finished but more of its samples failed than
+``--max-error-fraction`` allows (the image is written, so it can be inspected); 130 interrupted by Ctrl-C
+and 143 stopped by SIGTERM (``render`` and ``trace`` first save the partial image). Set
 ``WARPVIZ_DEBUG=1`` to see tracebacks of runtime errors.
 """
 
@@ -18,6 +21,7 @@ import importlib.util
 import os
 import platform
 import re
+import signal
 import subprocess
 import sys
 import time
@@ -41,15 +45,24 @@ from rich.table import Table
 from rich.text import Text
 
 import warpviz
+from warpviz.io import written_by_warpviz
+from warpviz.limits import MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP
+from warpviz.render.render import OPTIONAL_AOVS
 from warpviz.scene import Scene, SceneError, load_scene
 from warpviz.scene.catalog import looks_like_path, scene_description, scene_dirs, shipped_scenes
 
 EXIT_OK = 0
 EXIT_ERROR = 1
 EXIT_BAD_INPUT = 2
+EXIT_RENDER_FAILED = 3
 EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
 
 IMAGE_SUFFIXES = (".png", ".exr")
+
+#: ``--max-error-fraction``'s default: a render in which more than 1 % of the samples failed (each one
+#: darkens its pixel) exits with code 3. Every shipped scene renders with none.
+MAX_ERROR_FRACTION = 0.01
 
 app = typer.Typer(
     name="warpviz",
@@ -57,6 +70,7 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    rich_markup_mode=None,  # help texts are plain: "[outputs] file" must not be read as markup
 )
 
 out = Console(highlight=False)
@@ -89,8 +103,8 @@ def _guard():
         err.print(Text("error: ", style="bold red") + Text(str(exc)), soft_wrap=True)
         raise typer.Exit(EXIT_BAD_INPUT) from None
     except KeyboardInterrupt:
-        err.print(Text("interrupted", style="bold yellow"))
-        raise typer.Exit(EXIT_INTERRUPTED) from None
+        err.print(Text("terminated" if _terminated else "interrupted", style="bold yellow"))
+        raise typer.Exit(_stop_code()) from None
     except Exception as exc:  # noqa: BLE001 - the top of the command line
         if os.environ.get("WARPVIZ_DEBUG"):
             raise
@@ -99,6 +113,35 @@ def _guard():
 
 
 # ------------------------------------------------------------------------------------------- helpers
+_terminated = False  # SIGTERM arrived (it stops a render like Ctrl-C; the exit code says which it was)
+
+
+def _on_sigterm(signum, frame):
+    global _terminated
+    _terminated = True
+    raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def _stoppable():
+    """SIGTERM (what ``timeout``, ``kill`` and batch schedulers send) handled like Ctrl-C while inside."""
+    global _terminated
+    _terminated = False
+    try:
+        previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    except ValueError:  # not the main thread (e.g. a test runner's worker): nothing to install
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _stop_code() -> int:
+    return EXIT_TERMINATED if _terminated else EXIT_INTERRUPTED
+
+
 def _api(name: str, module: str) -> Any:
     """A public function of warpviz that may not exist yet (``render``, ``view``), or None."""
     obj = getattr(warpviz, name, None)
@@ -123,9 +166,19 @@ def _parse_size(value: Optional[str]) -> Optional[tuple[int, int]]:
     if value is None:
         return None
     m = re.fullmatch(r"\s*(\d+)\s*[xX*]\s*(\d+)\s*", value)
-    if not m or int(m.group(1)) < 1 or int(m.group(2)) < 1:
-        raise typer.BadParameter(f"expected WIDTHxHEIGHT with positive integers, e.g. 320x240; got {value!r}")
+    if not m or not all(1 <= int(g) <= MAX_IMAGE_SIDE for g in m.groups()):
+        raise typer.BadParameter(f"expected WIDTHxHEIGHT, each in [1, {MAX_IMAGE_SIDE}], e.g. 320x240; got {value!r}")
     return int(m.group(1)), int(m.group(2))
+
+
+def _parse_crop(value: Optional[str]) -> Optional[tuple[int, int, int, int]]:
+    if value is None:
+        return None
+    m = re.fullmatch(r"\s*(\d+)\s*,\s*(\d+)\s*,\s*(\d+)\s*[xX,]\s*(\d+)\s*", value)
+    if not m:
+        raise typer.BadParameter(f"expected X,Y,WIDTHxHEIGHT (the window's top-left pixel and size), e.g. 0,0,640x480; "
+                                 f"got {value!r}")  # fmt: skip
+    return tuple(int(g) for g in m.groups())
 
 
 def _parse_pixels(values: list[str]) -> np.ndarray:
@@ -143,11 +196,26 @@ def _parse_pixels(values: list[str]) -> np.ndarray:
     return np.asarray(pixels, dtype=np.int32)
 
 
-def _output_path(path: Path, suffixes: tuple[str, ...]) -> Path:
+def _output_path(path: Path, suffixes: tuple[str, ...], *, force: bool = False, scene: Optional[Scene] = None) -> Path:
+    """Check, before any work, that ``path`` may be written: its suffix, its folder, not a folder itself,
+    not a file warpviz did not write (unless ``force``), and, for a file the scene chose (``scene`` given),
+    inside the scene's folder or the working directory."""
+    what = "the scene's [outputs] file" if scene is not None else "output"
     if path.suffix.lower() not in suffixes:
-        _fail(f"output {str(path)!r} must end in {' or '.join(suffixes)}", EXIT_BAD_INPUT)
+        _fail(f"{what} {str(path)!r} must end in {' or '.join(suffixes)}", EXIT_BAD_INPUT)
+    if scene is not None:
+        where = [Path.cwd().resolve()] + ([scene.path.parent.resolve()] if scene.path is not None else [])
+        full = (Path.cwd() / path).resolve()
+        if not any(full.is_relative_to(folder) for folder in where):
+            _fail(f"{what} {str(path)!r} lies outside the scene's folder and the working directory; a scene "
+                  "file may not choose where else to write (give -o to write there)", EXIT_BAD_INPUT)  # fmt: skip
     if not path.parent.is_dir():
         _fail(f"output folder {str(path.parent)!r} does not exist", EXIT_BAD_INPUT)
+    if path.is_dir():
+        _fail(f"output {str(path)!r} is a folder; give a file name (e.g. {str(path / ('image' + suffixes[0]))!r})",
+              EXIT_BAD_INPUT)  # fmt: skip
+    if path.exists() and not force and not written_by_warpviz(path):
+        _fail(f"{str(path)!r} exists and was not written by warpviz; pass --force to replace it", EXIT_BAD_INPUT)
     return path
 
 
@@ -166,27 +234,57 @@ def _progress_bar(label: str, *, enabled: bool):
 
 
 def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_sampling, progress, record_pixels=None,
-                  light_connection=None):
-    """Call warpviz.render with the command line's options; bad options become exit code 2."""
+                  light_connection=None, crop=None, aovs=None):
+    """Call warpviz.render with the command line's options; bad options (and images too large for the
+    memory) become exit code 2."""
     render = _renderer()
     width, height = size if size is not None else (None, None)
     try:
         return render(scene, spp=spp, width=width, height=height, seed=seed, threads=threads, flat=flat,
                       light_sampling=light_sampling, paper=paper, progress=progress,
-                      record_pixels=record_pixels, light_connection=light_connection)  # fmt: skip
+                      record_pixels=record_pixels, light_connection=light_connection, crop=crop,
+                      aovs=aovs)  # fmt: skip
     except (ValueError, TypeError) as exc:
         if isinstance(exc, SceneError):
             raise
         _fail(str(exc), EXIT_BAD_INPUT)
 
 
+def _aovs_for(target: Optional[Path], scene: Scene) -> list[str]:
+    """The optional AOVs worth computing for an image written to ``target``: none for a PNG (it holds
+    radiance only), the scene's ``[outputs] aovs`` (default: all) for an EXR."""
+    if target is None or target.suffix.lower() != ".exr":
+        return []
+    names = scene.outputs.get("aovs")
+    return list(names) if names is not None else list(OPTIONAL_AOVS)
+
+
 def _keep_aovs(img: Any, names: Optional[list[str]]) -> None:
-    """Drop the AOVs a scene's ``[outputs] aovs`` does not list (only before writing an EXR)."""
+    """Drop the AOVs a scene's ``[outputs] aovs`` does not list (only before writing an EXR); ``errors``
+    and ``samples`` always stay, so an EXR says which pixels lost samples and how many each has."""
     aovs = getattr(img, "aovs", None)
     if names is None or not isinstance(aovs, dict):
         return
-    for key in [k for k in aovs if k not in names]:
+    for key in [k for k in aovs if k not in names and k not in ("errors", "samples")]:
         del aovs[key]
+
+
+def _error_summary(img: Any) -> str:
+    """``'0 of 12,288 samples failed'``-style summary of a render's failed samples."""
+    stats = getattr(img, "stats", {}) or {}
+    total, bad = int(stats.get("samples", 0)), int(stats.get("samples_with_errors", 0))
+    if not bad:
+        return f"no failed samples of {total:,}"
+    return f"{bad:,} of {total:,} samples failed ({100.0 * bad / max(1, total):.3g} %)"
+
+
+def _check_errors(img: Any, limit: float, target: Path) -> None:
+    """Exit 3 when more of the render's samples failed than ``limit`` allows (the image is written)."""
+    fraction = float(getattr(img, "error_fraction", 0.0))
+    if fraction > limit:
+        _fail(f"{_error_summary(img)}, more than --max-error-fraction {limit:g} allows: the image {target} is "
+              "darker where they failed (its EXR 'errors' channel shows where). Loosen tol, raise max_steps, "
+              "or move the camera and objects away from the horizon.", EXIT_RENDER_FAILED)  # fmt: skip
 
 
 # ------------------------------------------------------------------------------------------- commands
@@ -214,14 +312,21 @@ def render(
     output: Optional[Path] = typer.Option(
         None, "--output", "-o",
         help="Image to write: .png (tonemapped) or .exr (linear, with AOVs). "
-        "Default: the scene's [outputs] file, else SCENE_NAME.png.",
+        "Default: the scene's [outputs] file (inside the scene's folder or the working directory), "
+        "else SCENE_NAME.png.",
     ),  # fmt: skip
-    spp: Optional[int] = typer.Option(None, "--spp", min=1, help="Samples per pixel (default: the scene's)."),
+    spp: Optional[int] = typer.Option(None, "--spp", min=1, max=MAX_SPP, help="Samples per pixel (default: the scene's)."),
     size: Optional[str] = typer.Option(
-        None, "--size", callback=_parse_size, help="Image size WIDTHxHEIGHT, e.g. 320x240."
+        None, "--size", callback=_parse_size, help=f"Image size WIDTHxHEIGHT, e.g. 320x240 (each at most {MAX_IMAGE_SIDE})."
     ),
+    crop: Optional[str] = typer.Option(
+        None, "--crop", callback=_parse_crop,
+        help="Render only the window X,Y,WIDTHxHEIGHT of the image (top-left pixel and size), e.g. "
+        "0,0,640x480. Windows that tile the image hold exactly its pixels: a way to render an image "
+        "larger than memory in parts.",
+    ),  # fmt: skip
     threads: int = typer.Option(0, "--threads", min=0, help="Worker threads; 0 uses every core."),
-    seed: Optional[int] = typer.Option(None, "--seed", min=0, help="Random seed (default: the scene's)."),
+    seed: Optional[int] = typer.Option(None, "--seed", min=0, max=MAX_SEED, help="Random seed (default: the scene's)."),
     flat: bool = typer.Option(False, "--flat", help="Render the same scene in flat space, for comparison."),
     paper: bool = typer.Option(False, "--paper", help="Use the scene's [render.paper] size and sample count."),
     no_light_sampling: bool = typer.Option(
@@ -233,28 +338,43 @@ def render(
         "in Schwarzschild, Reissner-Nordstrom and Ellis, Newton-refined proxies in Kerr) or 'aimed' (the "
         "older flat-space proxies aimed by pilot geodesics, for comparison).",
     ),  # fmt: skip
+    max_error_fraction: float = typer.Option(
+        MAX_ERROR_FRACTION, "--max-error-fraction", min=0.0, max=1.0,
+        help="Exit with code 3 when more than this fraction of the samples failed (a geodesic ran out of "
+        "steps, broke a conservation law or became nan); the image is still written.",
+    ),  # fmt: skip
+    force: bool = typer.Option(False, "--force", help="Replace an existing output file that warpviz did not write."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:
-    """Render a scene to a PNG or EXR image. Ctrl-C stops early and saves the partial image (exit 130)."""
-    with _guard():
+    """Render a scene to a PNG or EXR image.
+
+    Ctrl-C (exit 130) or SIGTERM (exit 143) stops early and saves the partial image; exit 3 means too many
+    samples failed (see --max-error-fraction).
+    """
+    with _guard(), _stoppable():
         sc = load_scene(scene)
+        chosen = output is None and sc.outputs.get("file") is not None
         target = output or Path(sc.outputs.get("file") or f"{sc.path.stem if sc.path else 'scene'}.png")
-        target = _output_path(target, IMAGE_SUFFIXES)
+        target = _output_path(target, IMAGE_SUFFIXES, force=force, scene=sc if chosen else None)
         _renderer()
         t0 = time.perf_counter()
         with _progress_bar(sc.path.stem if sc.path else "scene", enabled=not quiet) as progress:
             img = _render_scene(sc, spp=spp, size=size, seed=seed, threads=threads, flat=flat, paper=paper,
                                 light_sampling=False if no_light_sampling else None, progress=progress,
-                                light_connection=light_connection)  # fmt: skip
+                                light_connection=light_connection, crop=crop,
+                                aovs=_aovs_for(target, sc))  # fmt: skip
         if target.suffix.lower() == ".exr":
             _keep_aovs(img, sc.outputs.get("aovs"))
         img.save(target)
         seconds = time.perf_counter() - t0
         h, w = np.shape(img.rgb)[:2]
         if not getattr(img, "completed", True):
-            err.print(Text(f"interrupted: saved the partial image ({w}x{h}) to {target}", style="yellow"))
-            raise typer.Exit(EXIT_INTERRUPTED)
-        err.print(f"wrote {target} ({w}x{h}, {seconds:.1f} s)")
+            how = "terminated" if _terminated else "interrupted"
+            err.print(Text(f"{how}: saved the partial image ({w}x{h}, {_error_summary(img)}) to {target}",
+                           style="yellow"))  # fmt: skip
+            raise typer.Exit(_stop_code())
+        err.print(f"wrote {target} ({w}x{h}, {seconds:.1f} s, {_error_summary(img)})")
+        _check_errors(img, max_error_fraction, target)
 
 
 @app.command()
@@ -268,28 +388,30 @@ def trace(
         Path("rays.vtp"), "--output", "-o", help="VTK PolyData file (.vtp) for the recorded paths."
     ),
     image: Optional[Path] = typer.Option(None, "--image", help="Also save the rendered image (.png or .exr)."),
-    spp: Optional[int] = typer.Option(None, "--spp", min=1, help="Samples per pixel (default: the scene's)."),
+    spp: Optional[int] = typer.Option(None, "--spp", min=1, max=MAX_SPP, help="Samples per pixel (default: the scene's)."),
     size: Optional[str] = typer.Option(None, "--size", callback=_parse_size, help="Image size WIDTHxHEIGHT."),
     threads: int = typer.Option(0, "--threads", min=0, help="Worker threads; 0 uses every core."),
-    seed: Optional[int] = typer.Option(None, "--seed", min=0, help="Random seed (default: the scene's)."),
+    seed: Optional[int] = typer.Option(None, "--seed", min=0, max=MAX_SEED, help="Random seed (default: the scene's)."),
     flat: bool = typer.Option(False, "--flat", help="Flat space instead of the scene's metric."),
     paper: bool = typer.Option(False, "--paper", help="Use the scene's [render.paper] settings."),
+    force: bool = typer.Option(False, "--force", help="Replace existing output files that warpviz did not write."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:
     """Render a scene and save the sampled light paths of chosen pixels as a .vtp file."""
-    with _guard():
+    with _guard(), _stoppable():
         sc = load_scene(scene)
         record = _parse_pixels(pixels)
         width, height = size if size is not None else sc.size(paper=paper)
         outside = [(int(x), int(y)) for x, y in record if not (x < width and y < height)]
         if outside:
             _fail(f"pixel {outside[0][0]},{outside[0][1]} is outside the {width}x{height} image", EXIT_BAD_INPUT)
-        target = _output_path(output, (".vtp",))
-        picture = _output_path(image, IMAGE_SUFFIXES) if image is not None else None
+        target = _output_path(output, (".vtp",), force=force)
+        picture = _output_path(image, IMAGE_SUFFIXES, force=force) if image is not None else None
         _renderer()
         with _progress_bar("tracing", enabled=not quiet) as progress:
             img = _render_scene(sc, spp=spp, size=size, seed=seed, threads=threads, flat=flat, paper=paper,
-                                light_sampling=None, progress=progress, record_pixels=record)  # fmt: skip
+                                light_sampling=None, progress=progress, record_pixels=record,
+                                aovs=_aovs_for(picture, sc))  # fmt: skip
         rays = getattr(img, "rays", None)
         if rays is None:
             _fail("the renderer returned no recorded rays")
@@ -303,7 +425,7 @@ def trace(
             img.save(picture)
         err.print(f"wrote {target} ({len(record)} pixels)" + (f" and {picture}" if picture else ""))
         if not getattr(img, "completed", True):
-            raise typer.Exit(EXIT_INTERRUPTED)
+            raise typer.Exit(_stop_code())
 
 
 @app.command()
@@ -315,6 +437,7 @@ def view(
     screenshot: Optional[Path] = typer.Option(
         None, "--screenshot", help="Write a PNG of the view; without a display the view is only written."
     ),
+    force: bool = typer.Option(False, "--force", help="Replace an existing screenshot that warpviz did not write."),
 ) -> None:
     """Open the PyVista teaching view: the image beside the 3-D paths of its light rays."""
     with _guard():
@@ -323,7 +446,7 @@ def view(
             _fail("the PyVista viewer (warpviz.view) is not available in this build of warpviz")
         path = Path(target)
         if path.is_file() and path.suffix.lower() in (".vtp", ".vtm"):
-            obj: Any = path
+            obj: Any = _ray_file(path)
         elif path.is_file() and path.suffix.lower() != ".toml":
             _fail(f"{target}: can view a scene (.toml or a shipped name), a .vtp or a .vtm file", EXIT_BAD_INPUT)
         elif path.is_file() or not looks_like_path(target):
@@ -334,10 +457,52 @@ def view(
         if pixels:
             options["pixels"] = _parse_pixels(pixels)
         if screenshot is not None:
-            options["screenshot"] = _output_path(screenshot, (".png",))
-        viewer(obj, **options)
+            options["screenshot"] = _output_path(screenshot, (".png",), force=force)
+        else:
+            from warpviz.viewer.offscreen import default_off_screen
+
+            if default_off_screen():
+                _fail("no display to open the view on (DISPLAY is not set, or PYVISTA_OFF_SCREEN is on): write "
+                      f"the view to a file with --screenshot view.png, e.g. warpviz view {target} --screenshot "
+                      "view.png", EXIT_BAD_INPUT)  # fmt: skip
+        try:
+            viewer(obj, **options)
+        except ValueError as exc:  # e.g. a pixel outside the preview image
+            _fail(str(exc), EXIT_BAD_INPUT)
         if screenshot is not None:
             err.print(f"wrote {screenshot}")
+
+
+def _ray_file(path: Path) -> Path:
+    """``path`` checked to be a ray file warpviz wrote (read quietly: VTK's own complaints about a file
+    that is not VTK are replaced by one message)."""
+    from warpviz.io import read_rays
+
+    try:
+        with _quiet_vtk():
+            read_rays(path)
+    except (ValueError, OSError) as exc:
+        _fail(f"{path}: {exc}", EXIT_BAD_INPUT)
+    except Exception:  # noqa: BLE001 - VTK raises what it likes on garbage
+        _fail(f"{path}: not a VTK file warpviz can read", EXIT_BAD_INPUT)
+    return path
+
+
+@contextlib.contextmanager
+def _quiet_vtk():
+    """VTK's error output and PyVista's reader warnings silenced for the block."""
+    import warnings
+
+    from vtkmodules.vtkCommonCore import vtkObject
+
+    previous = vtkObject.GetGlobalWarningDisplay()
+    vtkObject.GlobalWarningDisplayOff()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            yield
+    finally:
+        vtkObject.SetGlobalWarningDisplay(previous)
 
 
 @app.command()
@@ -462,11 +627,14 @@ def bench(ctx: typer.Context) -> None:
 
     Without a SUITE it runs the far-observer geodesic benchmark (benchmarks/bench_geodesics.py); every
     suite takes its own options after the name, e.g. `warpviz bench --size 32` or
-    `warpviz bench render --quick`.
+    `warpviz bench render --quick`. Results (CSV, plots) go to --out DIR, by default the working
+    directory; the repository's committed results are refreshed only by running a script directly.
     """
     with _guard():
         args = list(ctx.args)
         suite = args.pop(0) if args and args[0] in BENCH_SUITES else "geodesics"
+        if not any(a == "--out" or a.startswith("--out=") for a in args) and not {"-h", "--help"} & set(args):
+            args += ["--out", str(Path.cwd())]
         folder = Path(__file__).resolve().parent.parent / "benchmarks"
         script = folder / BENCH_SUITES[suite]
         if not script.is_file():

@@ -83,6 +83,8 @@ def resolve_scene(spec: str | Path) -> Path:
     p = Path(spec)
     if p.is_file():
         return p
+    if p.is_dir():
+        raise FileNotFoundError(f"{spec}: is a folder, not a scene file (give a .toml file in it)")
     if looks_like_path(spec):
         raise FileNotFoundError(f"{spec}: no such scene file")
     name = str(spec)

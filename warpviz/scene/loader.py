@@ -31,6 +31,9 @@ __all__ = ["FORMAT_VERSION", "load_scene"]
 
 FORMAT_VERSION = 1
 
+#: Largest scene file read, in bytes (a scene is a few kilobytes; meshes and images are files of their own).
+MAX_SCENE_BYTES = 16 * 2**20
+
 
 def load_scene(path: str | Path) -> Scene:
     """Read, validate and load a scene file.
@@ -56,16 +59,23 @@ def load_scene(path: str | Path) -> Scene:
         raise SceneError(str(exc.args[0] if exc.args else exc)) from None
     label = str(path) if Path(path).is_file() else str(file)
     try:
+        size = file.stat().st_size
+        if size > MAX_SCENE_BYTES:
+            raise SceneError(f"the scene file is {size} bytes, more than a scene file may be ({MAX_SCENE_BYTES}; "
+                             "meshes and textures go in files of their own)", path=label)  # fmt: skip
         text = file.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise SceneError(f"cannot read the scene file: {exc}", path=label) from None
     try:
         data = tomllib.loads(text)
+        reader = _Reader(label=label, positions=TomlPositions(text), base_dir=file.parent)
+        return _build(reader, data, path=file)
     except tomllib.TOMLDecodeError as exc:
         line, column, reason = _toml_error_position(str(exc), text)
         raise SceneError(f"TOML syntax error: {reason}", path=label, line=line, column=column) from None
-    reader = _Reader(label=label, positions=TomlPositions(text), base_dir=file.parent)
-    return _build(reader, data, path=file)
+    except RecursionError:
+        raise SceneError("arrays or tables are nested too deeply to read (a scene needs a few levels)",
+                         path=label) from None  # fmt: skip
 
 
 def _toml_error_position(message: str, text: str) -> tuple[int, int, str]:
