@@ -196,9 +196,11 @@ nb::dict render(nb::dict scene, nb::dict options) {
   };
   const auto t0 = std::chrono::steady_clock::now();
   wv::RenderResult r;
+  wv::ResolvedFilm resolved;
   {
     nb::gil_scoped_release release;
     r = wv::render_scene(metric, params, sc, o, stepper);
+    resolved = wv::resolve(r.film);  // frees the film's sums as it goes
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (callback_error) std::rethrow_exception(callback_error);
@@ -209,7 +211,6 @@ nb::dict render(nb::dict scene, nb::dict options) {
 
   wv::Film& f = r.film;
   const size_t W = size_t(f.width), H = size_t(f.height);
-  wv::ResolvedFilm resolved = wv::resolve(f);  // frees the film's sums as it goes
   nb::dict out, aovs, stats;
   out["rgb"] = to_numpy(std::move(resolved.rgb), {H, W, 3});
   // The AOVs the film kept, moved (not copied) into numpy arrays.

@@ -160,22 +160,30 @@ def check_render_memory(width: int, height: int, *, aovs: Iterable[str], image: 
     Raises
     ------
     RenderTooLarge
-        The estimate exceeds 80 % of the free memory, less a fixed headroom.
+        The estimate exceeds ``WARPVIZ_MEMORY_LIMIT`` where set, else 80 % of the free memory less a
+        fixed headroom (256 MB for the interpreter, the extension and the samples in flight).
     """
     aovs = tuple(aovs)
     need = render_bytes(width, height, aovs=aovs)
+    limited = bool(os.environ.get("WARPVIZ_MEMORY_LIMIT"))
     free = available_memory()
-    if free is None or need <= _FRACTION * max(0, free - _HEADROOM):
+    if free is None:
+        return need
+    # A limit the user set is what the render may use; what the machine reports free is shared with the
+    # process itself and everything else running, so only part of it is counted on.
+    budget = free if limited else _FRACTION * max(0, free - _HEADROOM)
+    if need <= budget:
         return need
     size = f"{width}x{height}" + (f" window of the {image[0]}x{image[1]} image" if image else "")
     per_pixel = need / max(1, width * height)
-    fits = int((_FRACTION * max(0, free - _HEADROOM) / per_pixel) ** 0.5)
+    fits = int((budget / per_pixel) ** 0.5)
+    hints = [f"a smaller size (about {fits}x{fits} fits)"] if fits >= 1 else []
+    hints.append("rendering it in windows (tiles) with crop= / --crop")
     extra = [a for a in aovs if a in AOV_BYTES]
-    hints = [f"a smaller size (about {fits}x{fits} fits)", "rendering it in windows (tiles) with crop= / --crop"]
     if extra:
         hints.append(f"fewer AOVs (asked for: {', '.join(extra)}; a PNG needs none)")
-    source = "WARPVIZ_MEMORY_LIMIT" if os.environ.get("WARPVIZ_MEMORY_LIMIT") else "free on this machine"
+    source = "WARPVIZ_MEMORY_LIMIT allows" if limited else "free on this machine allow"
     raise RenderTooLarge(
         f"a {size} render needs about {format_bytes(need)} ({per_pixel:.0f} bytes per pixel), more than the "
-        f"{format_bytes(free)} {source} allows; use {', or '.join(hints)}"
+        f"{format_bytes(free)} {source}; use {', or '.join(hints)}"
     )

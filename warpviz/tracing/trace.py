@@ -160,14 +160,19 @@ def trace(
         directions = np.broadcast_to(directions, origins.shape)
     if origins.shape != directions.shape:
         raise ValueError(f"origins {origins.shape} and directions {directions.shape} must have the same number of rows")
-    # Normalised after scaling by the largest component, so neither 1e308 (whose square overflows) nor
-    # 5e-324 (whose square underflows) loses the direction.
     scale = np.max(np.abs(directions), axis=1)
     bad = np.flatnonzero(~(scale > 0.0))
     if bad.size:
         raise ValueError(f"directions[{bad[0]}] has zero length")
-    scaled = directions / scale[:, None]
-    directions = np.ascontiguousarray(scaled / np.linalg.norm(scaled, axis=1)[:, None])
+    # Rows whose squared length overflows (1e308) or underflows (5e-324) are first scaled by their largest
+    # component, so they keep their direction; the others are divided by their length as they always were.
+    norms = np.linalg.norm(directions, axis=1)
+    extreme = ~(np.isfinite(norms) & (norms > 1e-150))
+    if extreme.any():
+        directions = directions.copy()
+        directions[extreme] /= scale[extreme, None]
+        norms[extreme] = np.linalg.norm(directions[extreme], axis=1)
+    directions = np.ascontiguousarray(directions / norms[:, None])
     origins = np.ascontiguousarray(origins)
     n = origins.shape[0]
 
