@@ -166,7 +166,8 @@ def trace(
         raise ValueError(f"directions[{bad[0]}] has zero length")
     # Rows whose squared length overflows (1e308) or underflows (5e-324) are first scaled by their largest
     # component, so they keep their direction; the others are divided by their length as they always were.
-    norms = np.linalg.norm(directions, axis=1)
+    with np.errstate(over="ignore", under="ignore"):
+        norms = np.linalg.norm(directions, axis=1)
     extreme = ~(np.isfinite(norms) & (norms > 1e-150))
     if extreme.any():
         directions = directions.copy()
