@@ -312,6 +312,9 @@ def _bundle(raw: dict, metric, options: dict) -> RayBundle:
 
     drift = {"H": per_ray_max(point_data["hamiltonian_err"])}
     drift.update({name[: -len("_drift")]: per_ray_max(point_data[name]) for name in names if name.endswith("_drift")})
+    scaled = {"H": drift["H"]}
+    scaled.update({name[: -len("_drift_scaled")]: per_ray_max(point_data[name])
+                   for name in names if name.endswith("_drift_scaled")})  # fmt: skip
     seg = np.diff(points, axis=0) if len(points) > 1 else np.zeros((0, 3))
     final_dirs = np.zeros((n, 3))
     for i in range(n):
@@ -330,6 +333,7 @@ def _bundle(raw: dict, metric, options: dict) -> RayBundle:
         final_sheets=point_data["sheet"][last].astype(np.int32) if len(points) else np.ones(n, dtype=np.int32),
         n_steps=n_steps,
         invariant_drift=drift,
+        invariant_drift_scaled=scaled,
         points=points,
         offsets=offsets,
         point_data=point_data,
