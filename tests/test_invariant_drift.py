@@ -120,3 +120,12 @@ def test_point_drift_columns(metric):
             assert pd[f"{name}_drift"].max() <= rays.invariant_drift[name][i]
             assert pd[f"{name}_drift_scaled"].max() <= rays.invariant_drift_scaled[name][i]
             assert np.all(pd[f"{name}_drift_scaled"] <= pd[f"{name}_drift"] * (1 + 1e-12) + 1e-300)
+
+
+def test_flat_space_records_zero_drift_columns():
+    """Straight rays conserve everything exactly: every drift column of a recorded Minkowski ray is 0."""
+    rays = wv.trace(wv.Minkowski(), [0.0, 0.0, 0.0], [[1.0, 0.2, 0.0], [0.0, 1.0, 0.3]], record=True)
+    drift_columns = [k for k in rays.point_data if "drift" in k]
+    assert len(drift_columns) == 2 * (len(rays.invariant_drift) - 1)
+    for k in drift_columns:
+        np.testing.assert_array_equal(rays.point_data[k], 0.0, err_msg=k)

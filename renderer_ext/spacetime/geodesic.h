@@ -122,7 +122,7 @@ void straight_ray(const M& m, const double y[8], int sheet, const TraceOptions& 
       const double r = std::sqrt(pk[0] * pk[0] + pk[1] * pk[1] + pk[2] * pk[2]);
       const double row[] = {lam, y[0] + lam, r, k == 0 ? 0.0 : s, 0.0};
       track->cols.insert(track->cols.end(), row, row + 5);
-      for (int j = 1; j < M::kNumInvariants; ++j) track->cols.push_back(0.0);
+      for (int j = 1; j < M::kNumInvariants; ++j) track->cols.insert(track->cols.end(), {0.0, 0.0});  // reported, scaled
       track->cols.push_back(1.0);  // no shift in flat space
       track->cols.push_back(double(sheet));
     }
