@@ -158,6 +158,13 @@ nb::dict render(nb::dict scene, nb::dict options) {
       throw std::invalid_argument("pixel_sampler must be 'sobol' or 'independent', got '" + ps + "'");
     o.pixel_sampler = ps == "sobol" ? wv::kSobolPixels : wv::kIndependentPixels;
   }
+  {
+    const std::string f = option<std::string>(options, "filter");
+    if (f != "box" && f != "gaussian" && f != "mitchell")
+      throw std::invalid_argument("filter must be 'box', 'gaussian' or 'mitchell', got '" + f + "'");
+    o.filter = f == "box" ? wv::kBoxFilter : f == "gaussian" ? wv::kGaussianFilter : wv::kMitchellFilter;
+    o.filter_radius = option<double>(options, "filter_radius");
+  }
   o.batch = option<bool>(options, "batch");
   o.threads = option<int>(options, "threads");
   const auto stepper = stepper_kind(option<std::string>(options, "stepper"));
