@@ -7,9 +7,9 @@ import math
 
 import numpy as np
 import pytest
+from native_scenes import metric, room
 
 import warpviz as wv
-from native_scenes import metric, room
 from warpviz.scene.reader import SceneError
 
 
