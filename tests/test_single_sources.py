@@ -11,7 +11,7 @@ import pytest
 
 import warpviz as wv
 from warpviz._native import core
-from warpviz.render.render import DEFAULT_OPTIONS
+from warpviz.render.render import DEFAULT_OPTIONS, FILTER_RADII
 from warpviz.scene.camera import camera_basis, pinhole_directions
 from warpviz.scene.native import native_camera, native_scene, schema_keys
 from warpviz.scene.reader import key_name
@@ -104,6 +104,7 @@ def _key_paths(node, path=()):
 def _render_options() -> dict:
     options = dict(DEFAULT_OPTIONS, spp=1, threads=1, progress=None, record_pixels=None)
     options["max_drift"] = default_max_drift(options["tol"])
+    options["filter_radius"] = FILTER_RADII[options["filter"]]
     return options
 
 

@@ -86,10 +86,12 @@ nb::dict trace(const std::string& metric, const std::vector<double>& params, F64
   const auto& names = wv::find_metric(metric).invariants;
   const size_t K = names.size();
   nb::dict out;
-  nb::dict drift;
+  nb::dict drift, drift_scaled;
   for (size_t k = 0; k < K; ++k) {
     std::vector<double> col(r.drift.begin() + k * n, r.drift.begin() + (k + 1) * n);
     drift[names[k].c_str()] = to_numpy(std::move(col), {n});
+    std::vector<double> col_s(r.drift_scaled.begin() + k * n, r.drift_scaled.begin() + (k + 1) * n);
+    drift_scaled[names[k].c_str()] = to_numpy(std::move(col_s), {n});
   }
   out["status"] = to_numpy(std::move(r.status), {n});
   out["final_positions"] = to_numpy(std::move(r.final_positions), {n, 3});
@@ -97,6 +99,9 @@ nb::dict trace(const std::string& metric, const std::vector<double>& params, F64
   out["final_sheets"] = to_numpy(std::move(r.final_sheets), {n});
   out["n_steps"] = to_numpy(std::move(r.n_steps), {n});
   out["invariant_drift"] = drift;
+  out["invariant_drift_scaled"] = drift_scaled;
+  out["initial_states"] = to_numpy(std::move(r.initial_states), {n, 8});
+  out["final_states"] = to_numpy(std::move(r.final_states), {n, 8});
   if (record) {
     const size_t P = r.points.size() / 3, C = size_t(r.num_columns);
     out["points"] = to_numpy(std::move(r.points), {P, 3});
@@ -153,6 +158,13 @@ nb::dict render(nb::dict scene, nb::dict options) {
     if (ps != "sobol" && ps != "independent")
       throw std::invalid_argument("pixel_sampler must be 'sobol' or 'independent', got '" + ps + "'");
     o.pixel_sampler = ps == "sobol" ? wv::kSobolPixels : wv::kIndependentPixels;
+  }
+  {
+    const std::string f = option<std::string>(options, "filter");
+    if (f != "box" && f != "gaussian" && f != "mitchell")
+      throw std::invalid_argument("filter must be 'box', 'gaussian' or 'mitchell', got '" + f + "'");
+    o.filter = f == "box" ? wv::kBoxFilter : f == "gaussian" ? wv::kGaussianFilter : wv::kMitchellFilter;
+    o.filter_radius = option<double>(options, "filter_radius");
   }
   o.batch = option<bool>(options, "batch");
   o.threads = option<int>(options, "threads");

@@ -162,13 +162,16 @@ Material material_from_dict(const nb::dict& t, const std::string& w, int ntex) {
   if (ty == "diffuse") {
     m.kind = MaterialKind::kDiffuse;
     m.texture = index(t, "texture", w, ntex);
+    m.emission = vec3(t, "emission", w);
   } else if (ty == "mirror") {
     m.kind = MaterialKind::kMirror;
     m.tint = vec3(t, "reflectance", w);
+    m.emission = vec3(t, "emission", w);
   } else if (ty == "glass") {
     m.kind = MaterialKind::kGlass;
     m.ior = number(t, "ior", w);
     m.tint = vec3(t, "tint", w);
+    m.emission = vec3(t, "emission", w);
   } else if (ty == "emissive") {
     m.kind = MaterialKind::kEmissive;
     m.texture = index(t, "texture", w, ntex);

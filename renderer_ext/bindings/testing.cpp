@@ -13,6 +13,7 @@
 #include "bindings/scene_dict.h"
 #include "engine/registry.h"
 #include "core/sobol.h"
+#include "film/pixel_filter.h"
 #include "integrators/lens_connection.h"
 #include "scene/material.h"
 
@@ -141,6 +142,17 @@ void bind_testing(nb::module_& m) {
         return to_numpy(std::move(out), {size_t(std::max(n, 0)), 2});
       },
       "seed"_a, "pixel"_a, "n"_a, "Test hook: the first n stratified points (n, 2) of a pixel (core/sobol.h).");
+  m.def(
+      "filter_samples",
+      [](int kind, double radius, F64In u) {
+        const auto uv = copy1(u, u.ndim() == 1 ? u.shape(0) : 0, "u");
+        const wv::PixelFilter f(kind, radius);
+        std::vector<double> x(uv.size()), w(uv.size());
+        for (size_t i = 0; i < uv.size(); ++i) x[i] = f.sample(uv[i], w[i]);
+        return nb::make_tuple(to_numpy(std::move(x), {uv.size()}), to_numpy(std::move(w), {uv.size()}));
+      },
+      "kind"_a, "radius"_a, "u"_a,
+      "Test hook: one axis of pixel filter `kind` (0 box, 1 gaussian, 2 mitchell): offsets and weights of u (n,).");
   m.def(
       "lens_ray",
       [](const std::string& metric, const std::vector<double>& params, double r_a, double r_b, bool same_sheet,

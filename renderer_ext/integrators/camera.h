@@ -1,14 +1,13 @@
 // The camera of a render: its viewing frame as measured by the observer at the camera (forward, right and
-// up in that observer's local frame), the start frame all camera rays share, and the jittered direction of
-// a pixel's camera ray (warpviz/scene/camera.py reaches it through the binding camera_rays).
+// up in that observer's local frame), the start frame all camera rays share, and the direction of a
+// pixel's camera sample (jittered, offset by the pixel filter) (warpviz/scene/camera.py reaches it through the binding camera_rays).
 #pragma once
 
 #include <cmath>
 #include <stdexcept>
 
-#include "core/rng.h"
-#include "core/sobol.h"
 #include "core/vec3.h"
+#include "film/pixel_filter.h"
 #include "integrators/chart_geometry.h"
 #include "scene/light.h"
 #include "scene/scene.h"
@@ -40,18 +39,17 @@ class CameraRays {
   // Chart point and observer frame at the camera, where every camera ray starts.
   const StartFrames::Entry& start() const { return start_; }
 
-  // Local-frame direction of a camera ray through pixel (px, py), jittered by the next two numbers of rng.
-  V3 direction(int px, int py, Rng& rng) const {
-    const double x = px + rng.uniform();
-    const double y = py + rng.uniform();
-    return direction_at(x, y);
-  }
-
-  // The same at the sample-th point of the pixel's stratified sequence (core/sobol.h); draws nothing from rng.
-  V3 direction_stratified(int px, int py, uint64_t seed, uint64_t pixel, uint64_t sample) const {
-    double jx, jy;
-    pixel_sample(seed, pixel, sample, jx, jy);
-    return direction_at(px + jx, py + jy);
+  // Local-frame direction of the camera sample at (jx, jy) in [0, 1)^2 of pixel (px, py) (uniform jitter or
+  // the pixel's stratified point): with the box filter of the pixel itself, at px + jx, py + jy; with any
+  // other filter, offset from the pixel's centre by the filter's importance sample of (jx, jy)
+  // (film/pixel_filter.h), whose weight the sample's radiance is multiplied by.
+  V3 direction_sample(int px, int py, double jx, double jy, const PixelFilter& filter, double& weight) const {
+    weight = 1.0;
+    if (filter.kind() == kBoxFilter && filter.radius() == 0.5) return direction_at(px + jx, py + jy);
+    double wx, wy;
+    const double ox = filter.sample(jx, wx), oy = filter.sample(jy, wy);
+    weight = wx * wy;
+    return direction_at(px + 0.5 + ox, py + 0.5 + oy);
   }
 
   // Local-frame direction of the camera ray through continuous pixel coordinates (x, y): x to the right

@@ -33,9 +33,11 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "core/sobol.h"
 #include "core/task.h"
 #include "core/vec3.h"
 #include "film/film.h"
+#include "film/pixel_filter.h"
 #include "integrators/camera.h"
 #include "integrators/chart_geometry.h"
 #include "integrators/emission.h"
@@ -59,7 +61,7 @@ class PathTracer {
   using Scheduler = SampleScheduler<M, S>;
 
   PathTracer(const M& m, const Scene& sc, const RenderOptions& o)
-      : sc_(sc), o_(o), camera_(m, sc.camera), segments_(m, sc, o), lights_(m, sc, o, segments_.options()),
+      : sc_(sc), o_(o), camera_(m, sc.camera), filter_(o.filter, o.filter_radius), segments_(m, sc, o), lights_(m, sc, o, segments_.options()),
         emission_(m, sc), lens_(m, sc, o.lens_images) {}
 
   // One sample of pixel (px, py): a light path traced back from the camera. Writes the first-hit AOVs to
@@ -75,8 +77,14 @@ class PathTracer {
     const Camera& cam = sc_.camera;
     const size_t pix = size_t(py) * cam.width + px;  // the sample's identity in the image, whatever the window
     Rng rng(o_.seed, pix, uint64_t(s));
-    V3 d = o_.pixel_sampler == kSobolPixels ? camera_.direction_stratified(px, py, o_.seed, pix, uint64_t(s))
-                                            : camera_.direction(px, py, rng);
+    double jx, jy, filter_weight;
+    if (o_.pixel_sampler == kSobolPixels) {
+      pixel_sample(o_.seed, pix, uint64_t(s), jx, jy);
+    } else {
+      jx = rng.uniform();
+      jy = rng.uniform();
+    }
+    V3 d = camera_.direction_sample(px, py, jx, jy, filter_, filter_weight);
     V3 x = cam.position;
     int sheet = cam.sheet, skip = -1;
     V3 L{0, 0, 0}, beta{1, 1, 1};
@@ -209,7 +217,7 @@ class PathTracer {
       L = {0, 0, 0};
       error = true;
     }
-    out.L = L;
+    out.L = filter_weight == 1.0 ? L : L * filter_weight;
     out.error = error;
     out.steps = steps;
     out.max_drift = max_drift;
@@ -233,6 +241,7 @@ class PathTracer {
   const Scene& sc_;
   const RenderOptions& o_;
   CameraRays<M> camera_;
+  PixelFilter filter_;
   SegmentTracer<M, S> segments_;
   LightConnection<M, S> lights_;  // after segments_, whose trace options its pilots start from
   Emission<M> emission_;

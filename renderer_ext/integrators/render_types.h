@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "film/film.h"
+#include "film/pixel_filter.h"
 #include "spacetime/geodesic.h"
 
 namespace wv {
@@ -33,6 +34,8 @@ struct RenderOptions {
   int light_connection = kLensConnection;
   int lens_images = 2;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
   int pixel_sampler = kSobolPixels;
+  int filter = kBoxFilter;     // pixel reconstruction filter (film/pixel_filter.h), by importance sampling
+  double filter_radius = 0.5;  // its support's half-width in pixels
   bool batch = true;       // curved space: step the geodesics of many samples together in SIMD lanes
   // Local error tolerance of pilot geodesics (at least trace.tol). A pilot only decides where a light's
   // proxy is seen from, never what a sample is worth, so its accuracy cannot bias the image.

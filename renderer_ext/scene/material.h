@@ -27,6 +27,9 @@ struct Material {
   bool beaming = false;    // emission scaled by g^4 (Doppler + gravitational shift of the emitter)
   bool keplerian = false;  // the emitter orbits prograde about +z (accretion disk) instead of being static
   bool colour_shift = false;  // with beaming: shift the colour too (RGB read as a coarse spectrum)
+  V3 emission{0, 0, 0};  // diffuse, mirror, glass: radiance emitted too (one-sided, along the normal)
+  // Emits light: emissive, or a reflecting material with emission (a light that also reflects like its BSDF).
+  bool emits() const { return kind == MaterialKind::kEmissive || max_component(emission) > 0.0; }
   bool is_delta() const { return kind == MaterialKind::kMirror || kind == MaterialKind::kGlass; }
 };
 

@@ -21,7 +21,7 @@ void Scene::finalize() {
                       (c & 4) ? boxes[i].hi.z : boxes[i].lo.z};
       bound_radius = std::max(bound_radius, length(corner));
     }
-    if (materials[p.material].kind == MaterialKind::kEmissive && p.kind != PrimKind::kTriangle)
+    if (materials[p.material].emits() && p.kind != PrimKind::kTriangle)
       lights.push_back(int(i));
   }
   bvh.build(boxes);

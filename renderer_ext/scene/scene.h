@@ -90,7 +90,10 @@ class Scene {
   // local-frame normal).
   V3 emitted(int p, const SurfacePoint& sp, V3 nl, V3 w) const {
     const Material& m = materials[prims[p].material];
-    if (m.kind != MaterialKind::kEmissive) return {0, 0, 0};
+    if (m.kind != MaterialKind::kEmissive) {
+      if (!(max_component(m.emission) > 0.0) || dot(nl, w) <= 0.0) return {0, 0, 0};
+      return m.emission;
+    }
     if (!m.two_sided && dot(nl, w) <= 0.0) return {0, 0, 0};
     const V3 c = m.texture >= 0 ? textures[m.texture].eval(sp.u, sp.v) : V3{1, 1, 1};
     return c * m.strength;

@@ -36,7 +36,8 @@ struct TraceResult {
   std::vector<double> final_positions, final_directions;  // (n, 3)
   std::vector<int32_t> final_sheets;
   std::vector<int64_t> n_steps;
-  std::vector<double> drift;  // (K, n): invariant k of ray i at [k * n + i]
+  std::vector<double> drift, drift_scaled;  // (K, n): RayResult's, invariant k of ray i at [k * n + i]
+  std::vector<double> initial_states, final_states;  // (n, 8): chart state (x^mu, p_mu) at start and end
   // Recording (record = true): concatenated points, offsets (n + 1), per-point columns (C, P).
   std::vector<double> points;
   std::vector<int64_t> offsets;
@@ -69,6 +70,9 @@ TraceResult trace_bundle(const M& m, const TraceRequest& req) {
   out.final_sheets.assign(n, 1);
   out.n_steps.assign(n, 0);
   out.drift.assign(K * n, 0.0);
+  out.drift_scaled.assign(K * n, 0.0);
+  out.initial_states.assign(8 * n, 0.0);
+  out.final_states.assign(8 * n, 0.0);
   std::vector<Track> tracks(req.options.record ? n : 0);
   auto setup = [&](std::size_t i, double y[8], int& sheet) {
     sheet = req.sheets ? req.sheets[i] : 1;
@@ -76,6 +80,7 @@ TraceResult trace_bundle(const M& m, const TraceRequest& req) {
       throw std::invalid_argument("ray " + std::to_string(i) + " " +
                                   origin_problem(m, req.origins + 3 * i, sheet));
     }
+    for (int c = 0; c < 8; ++c) out.initial_states[8 * i + c] = y[c];
   };
   auto track_of = [&](std::size_t i) { return req.options.record ? &tracks[i] : nullptr; };
   auto done = [&](std::size_t i, const RayResult& res) {
@@ -86,7 +91,11 @@ TraceResult trace_bundle(const M& m, const TraceRequest& req) {
     }
     out.final_sheets[i] = res.sheet;
     out.n_steps[i] = res.n_steps;
-    for (int k = 0; k < K; ++k) out.drift[k * n + i] = res.drift[k];
+    for (int k = 0; k < K; ++k) {
+      out.drift[k * n + i] = res.drift[k];
+      out.drift_scaled[k * n + i] = res.drift_scaled[k];
+    }
+    for (int c = 0; c < 8; ++c) out.final_states[8 * i + c] = res.y[c];
   };
   bool lanes = false;
   if constexpr (kLanesFor<M>) {

@@ -36,7 +36,8 @@ struct TraceOptions {
   double tol = 1e-9;            // relative + absolute local error per step (adaptive steppers)
   long max_steps = 100000;      // budget of step attempts, accepted or rejected
   double escape_radius = 1e3;   // rays moving outward beyond this radius have escaped
-  double max_drift = 1e-6;      // largest allowed relative drift of any conserved quantity
+  double max_drift = 1e-6;      // largest allowed term-scaled drift (RayResult::drift_scaled) of any
+                                // conserved quantity at a monitored point
   double rk4_step = 1.0;        // base (far-field) step of the seed RK4 method
   bool record = false;          // keep the polyline and per-point data
   bool backward = false;        // past-directed ray (camera rays): captured at the metric's capture radius
@@ -46,13 +47,24 @@ struct TraceOptions {
   int monitor_every = 0;
 };
 
+// A conserved quantity whose value at the start is below this fraction of the size of its terms there
+// (Q of an equatorial ray, Lz of a ray through the axis) is negligible: its relative drift says nothing
+// and the term-scaled one is reported instead.
+inline constexpr double kNegligibleInvariant = 1e-6;
+
 struct RayResult {
   int status = kNaN;
   double pos[3] = {0, 0, 0};  // final position, user frame
   double dir[3] = {0, 0, 0};  // asymptotic direction (escaped) or coordinate direction of motion
   int sheet = 1;
   long n_steps = 0;
-  double drift[kMaxInvariants] = {0, 0, 0, 0, 0, 0};  // max relative drift along the ray; [0] is |H|
+  // Drifts of the conserved quantities X_k, maxima over the monitored points and the end state (see
+  // kNegligibleInvariant). drift_scaled: |X - X0| / S, S the largest size along the ray of the terms X is
+  // computed from (at least the metric's invariant_scales floor); [0] is |2H| over the size of its
+  // terms. The check against max_drift uses it. drift: the reported drift, |X - X0| / |X0| where X0 is
+  // not negligible against S at the start, drift_scaled otherwise (and always for H, which is 0).
+  double drift[kMaxInvariants] = {0, 0, 0, 0, 0, 0};
+  double drift_scaled[kMaxInvariants] = {0, 0, 0, 0, 0, 0};
   double y[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // final chart state (position and covariant momentum)
   int prim = -1;                           // surface hit (status kHit): the scene primitive
 };
@@ -110,7 +122,7 @@ void straight_ray(const M& m, const double y[8], int sheet, const TraceOptions& 
       const double r = std::sqrt(pk[0] * pk[0] + pk[1] * pk[1] + pk[2] * pk[2]);
       const double row[] = {lam, y[0] + lam, r, k == 0 ? 0.0 : s, 0.0};
       track->cols.insert(track->cols.end(), row, row + 5);
-      for (int j = 1; j < M::kNumInvariants; ++j) track->cols.push_back(0.0);
+      for (int j = 1; j < M::kNumInvariants; ++j) track->cols.insert(track->cols.end(), {0.0, 0.0});  // reported, scaled
       track->cols.push_back(1.0);  // no shift in flat space
       track->cols.push_back(double(sheet));
     }
@@ -165,14 +177,16 @@ class GeodesicRay {
       // large (backward rays near a horizon) the cancellation in those terms limits what can be
       // conserved.
       for (int k = 1; k < K; ++k) scale_[k] = std::max(scale_[k], mag_[k]);
-      for (int k = 0; k < K; ++k) drift_[k] = 0.0;
+      relative_[0] = false;
+      for (int k = 1; k < K; ++k) relative_[k] = std::fabs(inv0_[k]) >= kNegligibleInvariant * scale_[k];
+      for (int k = 0; k < K; ++k) drift_[k] = reported_[k] = 0.0;
       // H is measured relative to the largest size its terms had along the ray: the rounding and
       // truncation errors committed where the coordinate momenta were large (e.g. an outgoing ray
       // starting just outside a horizon) do not grow as the momenta shrink, and no step-size
       // reduction later could remove them.
       h_scale_ = 0.0;
-      drift_[0] = herr_of(hp0);
-      for (int k = 0; k < K; ++k) res.drift[k] = drift_[k];
+      drift_[0] = reported_[0] = herr_of(hp0);
+      for (int k = 0; k < K; ++k) res.drift[k] = res.drift_scaled[k] = drift_[k];
       res.n_steps = 0;
       lam_ = 0.0;
       energy0_ = track ? local_energy(m, y) : 0.0;
@@ -317,14 +331,17 @@ class GeodesicRay {
         escaped_ = true;
         target_ = std::max(o.escape_radius, tail_radius(ys));
       }
-      if (r_new >= target_) return finish_escaped(ynew);
+      if (r_new >= target_) {
+        monitor(ynew, hp, herr);  // the end state counts in the drift; the check ran at the crossing
+        return finish_escaped(ynew);
+      }
     }
     bool ok = true;
     if (monitor_every_ == 1 || res.n_steps % monitor_every_ == 0) {
       ok = monitor(ynew, hp, herr);
     } else {
-      drift_[0] = herr;
-      res.drift[0] = std::max(res.drift[0], herr);
+      drift_[0] = reported_[0] = herr;
+      res.drift[0] = res.drift_scaled[0] = std::max(res.drift_scaled[0], herr);
     }
     lam_ += h;
     if (!escaped_) record(ynew, lam_, h);
@@ -369,7 +386,8 @@ class GeodesicRay {
     track_->cols.push_back(ys[0]);
     track_->cols.push_back(m.radius(ys));
     track_->cols.push_back(hs);
-    for (int k = 0; k < K; ++k) track_->cols.push_back(drift_[k]);
+    for (int k = 0; k < K; ++k) track_->cols.push_back(reported_[k]);
+    for (int k = 1; k < K; ++k) track_->cols.push_back(drift_[k]);
     track_->cols.push_back(energy0_ > 0.0 ? local_energy(m, ys) / energy0_ : 0.0);
     track_->cols.push_back(double(sh));
   }
@@ -403,14 +421,19 @@ class GeodesicRay {
   // the running maxima; false on violation.
   bool monitor(const double* ys, const HamiltonianParts& hp, double herr) {
     m_->conserved(ys, hp, inv_, mag_);
-    drift_[0] = herr;
+    drift_[0] = reported_[0] = herr;
     bool ok = true;
     for (int k = 1; k < K; ++k) {
       scale_[k] = std::max(scale_[k], mag_[k]);
-      drift_[k] = std::fabs(inv_[k] - inv0_[k]) / scale_[k];
+      const double change = std::fabs(inv_[k] - inv0_[k]);
+      drift_[k] = change / scale_[k];
+      reported_[k] = relative_[k] ? change / std::fabs(inv0_[k]) : drift_[k];
       if (!(drift_[k] <= o_->max_drift)) ok = false;
     }
-    for (int k = 0; k < K; ++k) res_->drift[k] = std::max(res_->drift[k], drift_[k]);
+    for (int k = 0; k < K; ++k) {
+      res_->drift_scaled[k] = std::max(res_->drift_scaled[k], drift_[k]);
+      res_->drift[k] = std::max(res_->drift[k], reported_[k]);
+    }
     return ok;
   }
 
@@ -449,7 +472,8 @@ class GeodesicRay {
   Track* track_ = nullptr;
   Surf* surfaces_ = nullptr;
   int sheet_ = 1;
-  double inv0_[K], scale_[K], inv_[K], drift_[K], mag_[K];
+  double inv0_[K], scale_[K], inv_[K], drift_[K], reported_[K], mag_[K];  // drift_: term-scaled
+  bool relative_[K];  // X0 is not negligible: the reported drift is relative to |X0|
   double h_scale_ = 0.0, lam_ = 0.0, energy0_ = 0.0;
   double r_h_ = 0.0, kappa_ = 0.1, target_ = 0.0, r_ = 0.0;
   bool escaped_ = false;  // crossed the escape sphere; still integrating for the direction

@@ -10,8 +10,9 @@
 namespace wv {
 
 // One recorded polyline: xyz (3 per point, user frame) and `columns` values per point:
-// affine_param, coord_time, r, step_size, hamiltonian_err, drift of invariants 1..K-1, redshift
-// (photon frequency seen by the local static observer / ZAMO over the one at the ray's start), sheet.
+// affine_param, coord_time, r, step_size, hamiltonian_err, the reported drift of invariants 1..K-1
+// (RayResult::drift's rule at that point), their term-scaled drifts, redshift (photon frequency seen by
+// the local static observer / ZAMO over the one at the ray's start), sheet.
 struct Track {
   std::vector<double> xyz;
   std::vector<double> cols;
@@ -19,13 +20,14 @@ struct Track {
 
 template <class M>
 constexpr int track_columns() {
-  return 5 + (M::kNumInvariants - 1) + 2;
+  return 5 + 2 * (M::kNumInvariants - 1) + 2;
 }
 
 // The names of those columns, for a metric whose conserved quantities are `invariants` ([0] = "H").
 inline std::vector<std::string> track_column_names(const std::vector<std::string>& invariants) {
   std::vector<std::string> names = {"affine_param", "coord_time", "r", "step_size", "hamiltonian_err"};
   for (std::size_t k = 1; k < invariants.size(); ++k) names.push_back(invariants[k] + "_drift");
+  for (std::size_t k = 1; k < invariants.size(); ++k) names.push_back(invariants[k] + "_drift_scaled");
   names.push_back("redshift");
   names.push_back("sheet");
   return names;

@@ -123,11 +123,27 @@ def _texture(r: _Reader, tp: tuple, kind: str, t: dict) -> dict:
 
 
 _MATERIAL_KEYS = {
-    "diffuse": ("color", "texture"),
-    "mirror": ("reflectance",),
-    "glass": ("ior", "tint"),
+    "diffuse": ("color", "texture", "emission"),
+    "mirror": ("reflectance", "emission"),
+    "glass": ("ior", "tint", "emission"),
     "emissive": ("strength", "color", "texture", "two_sided", "keplerian", "beaming", "colour_shift"),
 }
+
+
+#: The defaults of a reflecting material's ``emission = { color, strength }`` table (the native dict has
+#: only their product, ``emission``).
+EMISSION_DEFAULTS = {"color": [1.0, 1.0, 1.0], "strength": 1.0}
+
+
+def _emission(r: _Reader, m: dict, mp: tuple) -> list[float]:
+    """A diffuse, mirror or glass material's emitted radiance: emission.color * emission.strength (none: 0)."""
+    if "emission" not in m:
+        return [0.0, 0.0, 0.0]
+    ep = mp + ("emission",)
+    e = r.table(ep, m["emission"], ("color", "strength"), what="an emission table { color, strength }")
+    color = r.color(e, ep, "color", EMISSION_DEFAULTS["color"])
+    strength = r.real(e, ep, "strength", EMISSION_DEFAULTS["strength"], lo=0.0, lo_open=False)
+    return [c * strength for c in color]
 
 
 def _materials(r: _Reader, tbl: Any, tex_list: list, tex_index: dict) -> tuple[list, dict]:
@@ -151,13 +167,15 @@ def _materials(r: _Reader, tbl: Any, tex_list: list, tex_index: dict) -> tuple[l
         kind = r.choice(m, mp, "type", list(_MATERIAL_KEYS))
         r.table(mp, m, ("type", *_MATERIAL_KEYS[kind]))
         if kind == "diffuse":
-            mat = {"type": "diffuse", "texture": texture_ref(m, mp, albedo=True, default_color=[0.8, 0.8, 0.8])}
+            mat = {"type": "diffuse", "texture": texture_ref(m, mp, albedo=True, default_color=[0.8, 0.8, 0.8]),
+                   "emission": _emission(r, m, mp)}  # fmt: skip
         elif kind == "mirror":
-            mat = {"type": "mirror", "reflectance": r.color(m, mp, "reflectance", _MAT["mirror"]["reflectance"], albedo=True)}
+            mat = {"type": "mirror", "reflectance": r.color(m, mp, "reflectance", _MAT["mirror"]["reflectance"], albedo=True),
+                   "emission": _emission(r, m, mp)}  # fmt: skip
         elif kind == "glass":
             glass = _MAT["glass"]
             mat = {"type": "glass", "ior": r.real(m, mp, "ior", glass["ior"], lo=1.0, hi=4.0, lo_open=False),
-                   "tint": r.color(m, mp, "tint", glass["tint"], albedo=True)}  # fmt: skip
+                   "tint": r.color(m, mp, "tint", glass["tint"], albedo=True), "emission": _emission(r, m, mp)}  # fmt: skip
         else:
             emissive = _MAT["emissive"]
             mat = {

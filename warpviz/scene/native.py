@@ -25,7 +25,7 @@ Examples
 >>> full["camera"]["fov"], full["camera"]["up"], full["metric"]
 (40.0, [0.0, 0.0, 1.0], {'name': 'minkowski', 'params': []})
 >>> full["materials"][0]
-{'type': 'glass', 'ior': 1.5, 'tint': [1.0, 1.0, 1.0]}
+{'type': 'glass', 'ior': 1.5, 'tint': [1.0, 1.0, 1.0], 'emission': [0.0, 0.0, 0.0]}
 >>> full["environment_other"] is full["environment"]
 True
 >>> native_scene({**full, "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": -1, "material": 0}]})
@@ -76,9 +76,10 @@ SCHEMA: dict[str, Any] = {
         "image": {"data": REQUIRED, "repeat": (1.0, 1.0)},
     },
     "materials": {
-        "diffuse": {"texture": REQUIRED},
-        "mirror": {"reflectance": (1.0, 1.0, 1.0)},
-        "glass": {"ior": 1.5, "tint": (1.0, 1.0, 1.0)},
+        # emission: radiance a reflecting material also emits (one-sided, along the shape normal)
+        "diffuse": {"texture": REQUIRED, "emission": (0.0, 0.0, 0.0)},
+        "mirror": {"reflectance": (1.0, 1.0, 1.0), "emission": (0.0, 0.0, 0.0)},
+        "glass": {"ior": 1.5, "tint": (1.0, 1.0, 1.0), "emission": (0.0, 0.0, 0.0)},
         "emissive": {"texture": -1, "strength": 1.0, "two_sided": False, "keplerian": False, "beaming": False,
                      "colour_shift": False},
     },
@@ -315,15 +316,19 @@ def native_material(material: Mapping[str, Any], *, textures: int = 0, where: st
     kind = _string(m, "type", w)
     if kind not in SCHEMA["materials"]:
         _fail(f"{w}.type", f"unknown material type {kind!r} (known: {', '.join(SCHEMA['materials'])})")
+    if kind in ("diffuse", "mirror", "glass"):
+        emission = _vec3(m, "emission", w, kind, table=tb)
+        if not min(emission) >= 0.0:
+            _fail(f"{w}.emission", "must be >= 0 in every channel")
     if kind == "diffuse":
-        return {"type": kind, "texture": _index(m, "texture", w, textures, kind, table=tb)}
+        return {"type": kind, "texture": _index(m, "texture", w, textures, kind, table=tb), "emission": emission}
     if kind == "mirror":
-        return {"type": kind, "reflectance": _vec3(m, "reflectance", w, kind, table=tb)}
+        return {"type": kind, "reflectance": _vec3(m, "reflectance", w, kind, table=tb), "emission": emission}
     if kind == "glass":
         ior = _number(m, "ior", w, kind, table=tb)
         if not ior >= 1.0:
             _fail(f"{w}.ior", "must be >= 1")
-        return {"type": kind, "ior": ior, "tint": _vec3(m, "tint", w, kind, table=tb)}
+        return {"type": kind, "ior": ior, "tint": _vec3(m, "tint", w, kind, table=tb), "emission": emission}
     out = {"type": kind, "texture": _index(m, "texture", w, textures, kind, table=tb),
            "strength": _number(m, "strength", w, kind, table=tb)}  # fmt: skip
     if not out["strength"] >= 0:

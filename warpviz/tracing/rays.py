@@ -24,7 +24,7 @@ class RayStatus(enum.IntEnum):
     HIT = 1  #: hit a scene surface (renderer only)
     HORIZON = 2  #: crossed the event horizon (the path ends on it)
     MAX_STEPS = 3  #: ran out of its step budget
-    INVARIANT_VIOLATION = 4  #: a conserved quantity drifted beyond ``max_drift``
+    INVARIANT_VIOLATION = 4  #: a conserved quantity's term-scaled drift exceeded ``max_drift``
     NAN = 5  #: numerical breakdown (non-finite state or step-size underflow)
 
 
@@ -79,23 +79,38 @@ class RayBundle:
     n_steps : numpy.ndarray, shape (N,), int64
         Accepted integration steps (0 for flat space).
     invariant_drift : dict[str, numpy.ndarray]
-        For each conserved quantity (``"H"``, ``"E"``, ``"Lz"``, ``"Q"``, ``"L2"`` as the metric has
-        them) the largest relative drift along each ray, shape (N,) float64. ``"H"`` is the relative
-        size of the Hamiltonian, which is 0 for an exact null geodesic.
+        For each conserved quantity X (``"H"``, ``"E"``, ``"Lz"``, ``"Q"``, ``"L2"`` as the metric has
+        them) the reported drift: the largest over the monitored points and the end state, shape (N,)
+        float64, of the **relative** drift |X − X₀| / |X₀| where X₀ is not negligible against its terms
+        (|X₀| ≥ 1e-6 S₀, S₀ below at the start), and of the term-scaled drift of
+        :attr:`invariant_drift_scaled` otherwise (Q of an equatorial ray, Lz of a ray through the axis).
+        ``"H"`` (0 on an exact null geodesic) is always term-scaled: |2H| over the size of its terms.
+    invariant_drift_scaled : dict[str, numpy.ndarray]
+        The **term-scaled** drift |X − X₀| / S, shape (N,) float64, S the largest size along the ray of
+        the terms X is computed from (e.g. Σ|x p_y| + |y p_x| for Lz; ~r² p⊥² for Carter's Q far out),
+        at least a floor of the metric (|E| for E; M |E| for Lz; M² E² for Q and L²). It measures what
+        rounding and cancellation let be conserved; ``max_drift`` is checked against it. For a distant
+        ray's Q it is smaller than the relative drift by S / |Q₀| (10³–10⁵ on a Kerr image).
+        Empty for bundles recorded by the renderer before this was reported.
     points : numpy.ndarray or None, shape (P, 3), float64
         All recorded points (``record=True``), ray after ray, in each point's sheet frame.
     offsets : numpy.ndarray or None, shape (N + 1,), int64
         Ray ``i`` owns ``points[offsets[i]:offsets[i + 1]]``.
     point_data : dict[str, numpy.ndarray]
         Per-point arrays of shape (P,): ``affine_param``, ``coord_time``, ``r`` (areal / Boyer–Lindquist
-        radius), ``step_size``, ``hamiltonian_err``, ``<invariant>_drift`` for each invariant but H,
-        ``log10_error`` (log10 of the largest of those errors), ``redshift`` (photon frequency seen by
+        radius), ``step_size``, ``hamiltonian_err`` (term-scaled), ``<invariant>_drift`` for each invariant
+        but H (the reported drift there, by :attr:`invariant_drift`'s rule), ``<invariant>_drift_scaled``
+        (term-scaled), ``log10_error`` (log10 of the largest of ``hamiltonian_err`` and the reported
+        drifts), ``redshift`` (photon frequency seen by
         the local static observer, or ZAMO, over the one at the ray's start; 0 on a horizon),
         ``sheet`` (int8).
     ray_data : dict[str, numpy.ndarray]
         Extra per-ray arrays of shape (N,), any numeric dtype, e.g. ``pixel_x``, ``pixel_y``,
         ``sample``, ``bounce`` for paths recorded by the renderer. Empty for :func:`warpviz.trace`.
         They become cell data in :meth:`to_pyvista`.
+    initial_states, final_states : numpy.ndarray or None, shape (N, 8), float64
+        Chart state (t, x, y, z, p_t, p_x, p_y, p_z) with covariant momentum at the start and at the end
+        of each ray (:func:`warpviz.trace`; None for the renderer's recorded paths).
     """
 
     metric: Metric
@@ -111,6 +126,9 @@ class RayBundle:
     offsets: np.ndarray | None = None
     point_data: dict[str, np.ndarray] = field(default_factory=dict)
     ray_data: dict[str, np.ndarray] = field(default_factory=dict)
+    invariant_drift_scaled: dict[str, np.ndarray] = field(default_factory=dict)
+    initial_states: np.ndarray | None = None
+    final_states: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         n = len(self)
@@ -156,7 +174,7 @@ class RayBundle:
         return {k: v[s] for k, v in self.point_data.items()}
 
     def max_drift(self) -> np.ndarray:
-        """Largest relative drift of any conserved quantity per ray, shape (N,) float64."""
+        """Largest reported drift (:attr:`invariant_drift`) of any conserved quantity per ray, shape (N,) float64."""
         return np.max(np.stack(list(self.invariant_drift.values())), axis=0)
 
     def to_pyvista(self) -> pv.PolyData:
@@ -226,6 +244,8 @@ class RayBundle:
         poly.cell_data["n_steps"] = np.asarray(self.n_steps, dtype=np.int64)
         for name, values in self.invariant_drift.items():
             poly.cell_data[f"max_drift_{name}"] = np.asarray(values, dtype=np.float64)
+        for name, values in self.invariant_drift_scaled.items():
+            poly.cell_data[f"max_drift_scaled_{name}"] = np.asarray(values, dtype=np.float64)
         if self.invariant_drift:
             poly.cell_data["max_drift"] = self.max_drift()
         for name, values in self.ray_data.items():

@@ -16,9 +16,10 @@ STEPPERS = ("rk4", "dopri5", "dop853")
 
 
 def default_max_drift(tol: float) -> float:
-    """Largest relative drift of a conserved quantity a ray may show before it is marked
-    ``invariant_violation``: 1e3 times the local tolerance, but never below 1e-6 (the one place this
-    default lives; ``trace`` and ``render`` use it)."""
+    """Largest term-scaled drift of a conserved quantity (``RayBundle.invariant_drift_scaled``) a ray
+    may show at a monitored point before it is marked ``invariant_violation``: 1e3 times the local
+    tolerance, but never below 1e-6 (the one place this default lives; ``trace`` and ``render`` use
+    it)."""
     return max(1e-6, 1e3 * float(tol))
 
 
@@ -100,8 +101,11 @@ def trace(
     sheets : array_like of {+1, -1}, shape (N,), optional, keyword-only
         Ellis wormhole only: the sheet of each origin (default +1, ours).
     max_drift : float, optional, keyword-only
-        Largest relative drift of a conserved quantity before a step is retried smaller and, failing
-        that, the ray is marked ``invariant_violation``. Default ``max(1e-6, 1e3 * tol)``.
+        Largest term-scaled drift |X − X₀| / S of a conserved quantity X (S: the size of the terms X
+        is computed from, :attr:`RayBundle.invariant_drift_scaled`) before a step is retried smaller
+        and, failing that, the ray is marked ``invariant_violation``; for H, |2H| over the size of its
+        terms. A ray's relative drift |X − X₀| / |X₀| may exceed it by S / |X₀| (Carter's Q far out).
+        Default ``max(1e-6, 1e3 * tol)``.
     rk4_step : float, keyword-only
         Fixed far-field step of ``rk4`` in units of M, halved in powers of two near the mass
         (default 1.0).
@@ -220,6 +224,9 @@ def trace(
         final_sheets=raw["final_sheets"].astype(np.int8),
         n_steps=raw["n_steps"],
         invariant_drift=drift,
+        invariant_drift_scaled={k: np.asarray(v) for k, v in raw["invariant_drift_scaled"].items()},
+        initial_states=raw["initial_states"],
+        final_states=raw["final_states"],
         points=points,
         offsets=offsets,
         point_data=point_data,

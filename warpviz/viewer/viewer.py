@@ -3,7 +3,8 @@
 :func:`view` opens a PyVista window with two panels. On the left is the rendered image (tonemapped
 with :meth:`warpviz.Image.to_uint8`) with the pixels whose paths were recorded outlined; on the right
 the 3-D scene: the recorded rays as polylines coloured by their ``log10_error`` (log10 of the largest
-relative error of a conserved quantity), the scene's shapes, the spacetime's landmarks (horizon,
+reported drift of a conserved quantity: relative, |X − X₀| / |X₀|, where X₀ is not negligible against its
+terms, term-scaled otherwise and for H; see :class:`warpviz.RayBundle`), the scene's shapes, the spacetime's landmarks (horizon,
 ergosphere, photon sphere or Kerr photon region, Ellis throat) drawn translucent and the camera frustum.
 An Ellis wormhole is drawn as its embedding diagram with the rays on it, both sheets visible.
 

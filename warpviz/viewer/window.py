@@ -21,12 +21,20 @@ __all__ = ["SCALAR_TITLES", "TeachingView"]
 
 #: Scalar-bar titles of the point arrays rays can be coloured by.
 SCALAR_TITLES = {
-    "log10_error": "log10 conserved-quantity error",
-    "hamiltonian_err": "relative |H| (null condition)",
+    "log10_error": "log10 drift |X-X0|/|X0| (X0~0: scaled)",
+    "hamiltonian_err": "|2H| / size of its terms (null condition)",
     "r": "radius r (M)",
     "affine_param": "affine parameter",
     "coord_time": "coordinate time t (M)",
     "step_size": "step size",
+    "E_drift": "E drift |E-E0|/|E0|",
+    "Lz_drift": "Lz drift |Lz-Lz0|/|Lz0| (term-scaled where Lz0~0)",
+    "Q_drift": "Q drift |Q-Q0|/|Q0| (term-scaled where Q0~0)",
+    "L2_drift": "L2 drift |L2-L2_0|/|L2_0| (term-scaled where L2_0~0)",
+    "E_drift_scaled": "E drift / size of its terms",
+    "Lz_drift_scaled": "Lz drift / size of its terms",
+    "Q_drift_scaled": "Q drift / size of its terms",
+    "L2_drift_scaled": "L2 drift / size of its terms",
     "sheet": "sheet (+1 ours, -1 other)",
 }
 
