@@ -448,6 +448,10 @@ def _render_until_signalled(tmp_path: Path, sig: int) -> tuple[subprocess.Comple
         time.sleep(0.5)  # a few passes
         proc.send_signal(sig)
         stdout, stderr = proc.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        stdout, stderr = proc.communicate()
+        pytest.fail(f"the render did not stop within 60 s of signal {sig}; stderr: {stderr}")
     finally:
         if proc.poll() is None:
             proc.kill()
@@ -466,6 +470,21 @@ def test_a_signal_saves_the_partial_image_with_its_samples(tmp_path, sig, code, 
         samples = channels["samples"].pixels
         assert "errors" in channels
     assert 1 <= samples.min() and samples.max() < 100000  # every pixel has samples; the render stopped early
+
+
+def test_a_stop_asked_for_during_a_passs_last_chunk_is_kept():
+    """An image of one chunk (48 pixels): every poll during a pass comes after its last chunk started,
+    so a stop asked for then must still end the render after that pass (it once ran to the end)."""
+    calls = []
+
+    def stop_once(done, total):
+        calls.append(done)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+
+    img = wv.render("fig07", width=8, height=6, spp=4096, threads=1, progress=stop_once)
+    assert not img.completed
+    assert 1 <= img.aovs["samples"].max() < 4096
 
 
 # ------------------------------------------------------------------------------------------------ bench

@@ -73,7 +73,13 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
   std::atomic<int64_t> counts[6];
   for (auto& c : counts) c = 0;
   std::atomic<int64_t> steps{0}, segments{0};
-  const std::function<bool()> poll = o.poll ? std::function<bool()>([&]() { return o.poll(done.load(), total); })
+  // A stop is for good: poll can be asked for a stop after a pass's last chunk has started, when
+  // parallel_for reports the pass complete, and the next pass must not run.
+  bool stopped = false;
+  const std::function<bool()> poll = o.poll ? std::function<bool()>([&]() {
+    if (!stopped && !o.poll(done.load(), total)) stopped = true;
+    return !stopped;
+  })
                                             : std::function<bool()>();
   const size_t npix = size_t(W) * H;
   constexpr size_t kChunk = 64;  // pixels per parallel task
@@ -103,7 +109,7 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
       steps += st.steps;
       segments += st.segments;
     };
-    if (!parallel_for(nchunks, o.threads, 1, body, poll)) {
+    if (!parallel_for(nchunks, o.threads, 1, body, poll) || stopped) {
       out.completed = false;
       break;
     }
