@@ -27,8 +27,9 @@ from warpviz.viewer.picking import (  # noqa: E402
     rays_for_pixel,
     recorded_pixels,
     sparse_pixel_grid,
+    teaching_pixels,
 )
-from warpviz.viewer.view_content import camera_from_frustum, view_content  # noqa: E402
+from warpviz.viewer.view_content import camera_from_frustum, flat_impact_parameters, view_content  # noqa: E402
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 CACHE = Path(__file__).parent / "data" / "viewer_cache"
@@ -362,17 +363,36 @@ def test_view_reads_vtp_and_vtm_files(img, tmp_path):
         reference.close()
 
 
-def test_view_of_a_scene_renders_a_preview_recording_a_sparse_grid():
+def test_view_of_a_scene_records_the_teaching_pixels():
     plotter = wv.view(lensing_scene(64, 32), off_screen=True, return_plotter=True, window_size=WINDOW,
                       preview_width=24, spp=1)  # fmt: skip
     try:
         tv = plotter.teaching_view
         assert tv.image.shape == (12, 24, 3)
-        grid = sparse_pixel_grid(24, 12)
-        np.testing.assert_array_equal(recorded_pixels(tv.rays), grid[np.lexsort((grid[:, 0], grid[:, 1]))])
+        first = wv.render(lensing_scene(64, 32), width=24, height=12, spp=1, aovs=["status"])
+        chosen = teaching_pixels(first.aovs["status"], first.rgb,
+                                 flat_impact_parameters(first.native_scene["camera"], 24, 12))  # fmt: skip
+        want = np.array(sorted({xy for _, xy in chosen}, key=lambda p: (p[1], p[0])))
+        np.testing.assert_array_equal(recorded_pixels(tv.rays), want)
         assert tv.selected == []
     finally:
         plotter.close()
+
+
+def test_the_teaching_pixels_of_a_black_hole_room():
+    """fig07: the edge pixel's camera ray escapes its neighbour's fall into the hole, the lensed-light
+    pixel is one of the brightest, the plain one is far from the hole."""
+    img = wv.render("fig07", width=48, height=36, spp=2)
+    status = img.aovs["status"]
+    impact = flat_impact_parameters(img.native_scene["camera"], 48, 36)
+    chosen = dict(teaching_pixels(status, img.rgb, impact))
+    x, y = chosen["shadow edge"]
+    assert status[y, x] != 2 and status[y, x - 1] == 2
+    lum = img.rgb @ np.array([0.2126, 0.7152, 0.0722])
+    x, y = chosen["lensed light"]
+    assert lum[y, x] >= 0.5 * lum[status != 2].max()
+    x, y = chosen["plain"]
+    assert status[y, x] != 2 and impact[y, x] > 1.5 * impact[chosen["shadow edge"][::-1]]
 
 
 def test_ellis_rays_are_drawn_on_the_embedding_diagram():

@@ -34,7 +34,11 @@ __all__ = [
     "rays_for_pixel",
     "recorded_pixels",
     "sparse_pixel_grid",
+    "teaching_pixels",
 ]
+
+#: RayStatus code of a camera ray that fell into a horizon (the status AOV's value for shadow pixels).
+_HORIZON = 2
 
 
 def _per_ray(rays: Any, name: str) -> np.ndarray | None:
@@ -185,6 +189,76 @@ def sparse_pixel_grid(width: int, height: int, *, nx: int = 8, ny: int = 6) -> n
     ys = ((np.arange(ny) + 0.5) * height / ny).astype(np.int64)
     gx, gy = np.meshgrid(xs, ys)
     return np.column_stack([gx.ravel(), gy.ravel()])
+
+
+def teaching_pixels(status: np.ndarray, rgb: np.ndarray, impact: np.ndarray, *,
+                    edge_impact: float | None = None) -> list[tuple[str, tuple[int, int]]]:  # fmt: skip
+    """A few pixels whose light paths explain a picture: one at the shadow's (or throat's) edge, one
+    through the brightest lensed light, one plain.
+
+    Parameters
+    ----------
+    status : numpy.ndarray
+        (H, W) RayStatus code of each pixel's camera ray (the ``status`` AOV); 2 = fell into a horizon.
+    rgb : numpy.ndarray
+        (H, W, 3) float linear radiance.
+    impact : numpy.ndarray
+        (H, W) float impact parameter of each pixel's straight (flat-space) camera ray about the centre
+        of the spacetime; ``inf`` for rays pointing away from it.
+    edge_impact : float, optional, keyword-only
+        Without horizon pixels (a wormhole), the impact parameter of the edge to show (the throat's).
+
+    Returns
+    -------
+    list of (str, (int, int))
+        ``("shadow edge" | "throat edge", (x, y))``, ``("lensed light", (x, y))``, ``("plain", (x, y))``,
+        each where the picture has one, without repeats.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> status = np.zeros((5, 7)); status[1:4, 2:5] = 2          # a 3 x 3 shadow in the middle
+    >>> rgb = np.full((5, 7, 3), 0.1); rgb[2, 6] = 5.0            # one bright pixel
+    >>> yy, xx = np.mgrid[0:5, 0:7]
+    >>> impact = np.hypot(xx - 3.0, yy - 2.0)
+    >>> [(label, xy) for label, xy in teaching_pixels(status, rgb, impact)]
+    [('shadow edge', (5, 2)), ('lensed light', (6, 2)), ('plain', (1, 2))]
+    """
+    status = np.asarray(status)
+    rgb = np.asarray(rgb, dtype=np.float64)
+    impact = np.asarray(impact, dtype=np.float64)
+    h, w = status.shape
+    shadow = status == _HORIZON
+    out: list[tuple[str, tuple[int, int]]] = []
+    row = h // 2
+    if shadow.any():
+        ys, xs = np.nonzero(shadow)
+        row = int(round(ys.mean()))
+        row = int(ys[np.argmin(np.abs(ys - row))])  # a row through the shadow
+        cols = np.flatnonzero(shadow[row])
+        edge = int(cols.max()) + 1
+        if edge < w:
+            out.append(("shadow edge", (edge, row)))
+    elif edge_impact is not None:
+        finite = np.isfinite(impact[row])
+        if finite.any():
+            x = int(np.argmin(np.where(finite, np.abs(impact[row] - edge_impact), np.inf)))
+            out.append(("throat edge", (x, row)))
+    luminance = rgb @ np.array([0.2126, 0.7152, 0.0722])
+    luminance = np.where(shadow | ~np.isfinite(luminance), 0.0, luminance)
+    if luminance.max() > 0:
+        bright = luminance >= 0.5 * luminance.max()
+        y, x = np.unravel_index(np.argmin(np.where(bright, impact, np.inf)), (h, w))
+        out.append(("lensed light", (int(x), int(y))))
+    plain = (int(0.15 * w), row)
+    if not shadow[plain[1], plain[0]]:
+        out.append(("plain", plain))
+    seen, unique = set(), []
+    for label, xy in out:
+        if xy not in seen:
+            seen.add(xy)
+            unique.append((label, xy))
+    return unique
 
 
 def pixel_to_image_cell(x: int, y: int, *, width: int, height: int) -> int:

@@ -29,9 +29,10 @@ from warpviz.render import Image
 from warpviz.scene.native import SCHEMA
 from warpviz.spacetime import Metric
 from warpviz.tracing import RayBundle
-from warpviz.viewer.picking import sparse_pixel_grid
+from warpviz.scene.camera import pinhole_directions
+from warpviz.viewer.picking import teaching_pixels
 
-__all__ = ["ViewContent", "camera_from_frustum", "view_content"]
+__all__ = ["ViewContent", "camera_from_frustum", "flat_impact_parameters", "view_content"]
 
 @dataclass
 class ViewContent:
@@ -56,6 +57,13 @@ class ViewContent:
         Scene shapes read from a ``.vtm`` (otherwise built from ``native_scene`` when drawn).
     features : dict[str, pyvista.PolyData]
         Landmarks read from a ``.vtm`` (otherwise built from ``metric`` when drawn).
+    pixel_labels : dict[tuple[int, int], str]
+        What the pixels chosen by :func:`~warpviz.viewer.picking.teaching_pixels` show ("shadow edge",
+        "lensed light", "plain"), for the labels in the view.
+    source : scene or None
+        The scene the image was rendered from (a Scene or native dict), so the view can refine it.
+    preview : dict or None
+        ``width``, ``height``, ``spp`` and ``seed`` of that render.
     """
 
     title: str
@@ -66,6 +74,9 @@ class ViewContent:
     camera: Mapping[str, Any] | None = None
     surfaces: Any = None
     features: dict = field(default_factory=dict)
+    pixel_labels: dict = field(default_factory=dict)
+    source: Any = None
+    preview: dict | None = None
 
 
 def _metric_of_polydata(poly) -> Metric | None:
@@ -110,10 +121,8 @@ def camera_from_frustum(frustum) -> dict:
 def _content_from_image(img: Image) -> ViewContent:
     native = img.native_scene
     metric = img.rays.metric if img.rays is not None else None
-    if metric is None and native is not None:
-        from warpviz.export.export import _as_metric
-
-        metric = _as_metric(native["metric"])
+    if metric is None:
+        metric = _metric_of_native(native)
     scene = img.metadata.get("scene") if img.metadata else None
     title = Path(scene).stem if scene else (metric.name if metric else "render")
     return ViewContent(
@@ -162,9 +171,34 @@ def _preview_size(camera: Mapping[str, Any], width: int) -> tuple[int, int]:
     return width, max(1, round(h * width / w))
 
 
+def flat_impact_parameters(camera: Mapping[str, Any], width: int, height: int) -> np.ndarray:
+    """The impact parameter about the origin (where every metric has its centre) of each pixel's
+    straight camera ray.
+
+    Parameters
+    ----------
+    camera : dict
+        A native scene camera.
+    width, height : int
+        The image size the pixels belong to.
+
+    Returns
+    -------
+    numpy.ndarray
+        (height, width) float64 distances of closest approach ``|position x direction|`` (in M); ``inf``
+        for rays that point away from the centre.
+    """
+    yy, xx = np.mgrid[0:height, 0:width]
+    cam = dict(camera, width=width, height=height)
+    d = pinhole_directions(cam, np.column_stack([xx.ravel(), yy.ravel()]))
+    p = np.asarray(cam["position"], dtype=np.float64)
+    b = np.linalg.norm(np.cross(p, d), axis=1)
+    return np.where(d @ p < 0.0, b, np.inf).reshape(height, width)
+
+
 def _content_from_scene(scene, *, pixels, preview_width: int, spp: int) -> ViewContent:
-    """Render a scene small, recording the paths of ``pixels`` (given at the preview size) or of a sparse
-    grid of pixels."""
+    """Render a scene small, recording the paths of ``pixels`` (given at the preview size) or of the few
+    pixels :func:`~warpviz.viewer.picking.teaching_pixels` chooses from a first render."""
     from warpviz.render import render
 
     if isinstance(scene, Mapping):
@@ -176,9 +210,31 @@ def _content_from_scene(scene, *, pixels, preview_width: int, spp: int) -> ViewC
             scene = load_scene(scene)
         camera = scene.native(flat=False, width=None, height=None, paper=False)["camera"]
     width, height = _preview_size(camera, preview_width)
-    record = sparse_pixel_grid(width, height) if pixels is None else np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
+    labels: dict = {}
+    if pixels is None:
+        first = render(scene, width=width, height=height, spp=spp, aovs=["status"])
+        metric = _metric_of_native(first.native_scene)
+        throat = metric.landmarks.get("throat") if metric is not None else None
+        chosen = teaching_pixels(first.aovs["status"], first.rgb, flat_impact_parameters(camera, width, height),
+                                 edge_impact=throat)  # fmt: skip
+        labels = {xy: label for label, xy in chosen}
+        record = np.array(list(labels) or [(width // 2, height // 2)], dtype=np.int64)
+    else:
+        record = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
     img = render(scene, width=width, height=height, spp=spp, record_pixels=record)
-    return _content_from_image(img)
+    content = _content_from_image(img)
+    content.pixel_labels = labels
+    content.source = scene
+    content.preview = {"width": width, "height": height, "spp": spp, "seed": img.metadata.get("seed")}
+    return content
+
+
+def _metric_of_native(native: Mapping[str, Any] | None) -> Metric | None:
+    if native is None:
+        return None
+    from warpviz.export.export import _as_metric
+
+    return _as_metric(native["metric"])
 
 
 def view_content(obj, *, pixels=None, preview_width: int = 96, spp: int = 4) -> ViewContent:
@@ -189,7 +245,8 @@ def view_content(obj, *, pixels=None, preview_width: int = 96, spp: int = 4) -> 
     obj : Image, RayBundle, str, os.PathLike, warpviz.scene.Scene or dict
         A render, a recorded bundle, a ``.vtp``/``.vtm`` file, or a scene (file, Scene or native dict),
         which is rendered at ``preview_width`` pixels across, recording the paths of ``pixels`` or of
-        :func:`warpviz.viewer.picking.sparse_pixel_grid`.
+        the few pixels :func:`warpviz.viewer.picking.teaching_pixels` chooses (the shadow's or throat's
+        edge, the lensed light, a plain one).
     pixels : array_like of int, optional, keyword-only
         (K, 2) pixels to record when ``obj`` is a scene (ignored otherwise).
     preview_width, spp : int, keyword-only
