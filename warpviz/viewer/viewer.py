@@ -75,7 +75,8 @@ def view(
         An :class:`~warpviz.Image` from :func:`warpviz.render` (rendered with ``record_pixels`` to have
         paths to show), a recorded :class:`~warpviz.RayBundle`, a ``.vtp`` ray file or scene ``.vtm``,
         or a scene (file, Scene or native dict), which is first rendered at ``preview_width`` pixels
-        across, recording the paths of ``pixels`` or of an 8 x 6 grid of pixels.
+        across, recording the paths of ``pixels`` or of a few chosen pixels (the shadow's or throat's
+        edge, the lensed light, a plain one: :func:`warpviz.viewer.picking.teaching_pixels`).
     off_screen : bool, optional, keyword-only
         Render without a window; default :func:`default_off_screen` (off-screen without a display or
         with ``PYVISTA_OFF_SCREEN=true``).
