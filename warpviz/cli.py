@@ -103,7 +103,7 @@ def _guard():
         err.print(Text("error: ", style="bold red") + Text(str(exc)), soft_wrap=True)
         raise typer.Exit(EXIT_BAD_INPUT) from None
     except KeyboardInterrupt:
-        err.print(Text("terminated" if _terminated else "interrupted", style="bold yellow"))
+        err.print(Text(_stop_word(), style="bold yellow"))
         raise typer.Exit(_stop_code()) from None
     except Exception as exc:  # noqa: BLE001 - the top of the command line
         if os.environ.get("WARPVIZ_DEBUG"):
@@ -140,6 +140,10 @@ def _stoppable():
 
 def _stop_code() -> int:
     return EXIT_TERMINATED if _terminated else EXIT_INTERRUPTED
+
+
+def _stop_word() -> str:
+    return "terminated" if _terminated else "interrupted"
 
 
 def _api(name: str, module: str) -> Any:
@@ -369,8 +373,7 @@ def render(
         seconds = time.perf_counter() - t0
         h, w = np.shape(img.rgb)[:2]
         if not getattr(img, "completed", True):
-            how = "terminated" if _terminated else "interrupted"
-            err.print(Text(f"{how}: saved the partial image ({w}x{h}, {_error_summary(img)}) to {target}",
+            err.print(Text(f"{_stop_word()}: saved the partial image ({w}x{h}, {_error_summary(img)}) to {target}",
                            style="yellow"))  # fmt: skip
             raise typer.Exit(_stop_code())
         err.print(f"wrote {target} ({w}x{h}, {seconds:.1f} s, {_error_summary(img)})")

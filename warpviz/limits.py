@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numbers
 
-__all__ = ["MAX_IMAGE_SIDE", "MAX_SPP", "MAX_SEED", "TOLERANCE_RANGES", "image_side", "tolerance_range"]
+__all__ = ["MAX_IMAGE_SIDE", "MAX_SPP", "MAX_SEED", "TOLERANCE_RANGES", "image_side", "tolerance_problem", "tolerance_range"]
 
 #: Largest image width or height in pixels. Whether an image of a given size fits in memory is checked
 #: against the machine before rendering; this only bounds the pixel coordinates the core indexes with.
@@ -54,6 +54,28 @@ def tolerance_range(stepper: str) -> tuple[float, float]:
         Inclusive bounds.
     """
     return TOLERANCE_RANGES[stepper]
+
+
+def tolerance_problem(stepper: str, tol: float) -> str:
+    """Why ``tol`` is no tolerance for ``stepper``, or ``""`` where it is usable.
+
+    Parameters
+    ----------
+    stepper : {"rk4", "dopri5", "dop853"}
+        The integrator.
+    tol : float
+        The local error tolerance asked for.
+
+    Returns
+    -------
+    str
+        E.g. ``"tol = 1e-30 is outside what dopri5 can meet in double precision: use [1e-15, 0.1]"``; the
+        caller may put a key path in front of ``tol``.
+    """
+    lo, hi = tolerance_range(stepper)
+    if lo <= tol <= hi:
+        return ""
+    return f"tol = {tol:g} is outside what {stepper} can meet in double precision: use [{lo:g}, {hi:g}]"
 
 
 def image_side(name: str, value) -> int:

@@ -31,7 +31,7 @@ from collections.abc import Callable
 import numpy as np
 
 from warpviz._native import core
-from warpviz.limits import MAX_SEED, MAX_SPP, image_side, tolerance_range
+from warpviz.limits import MAX_SEED, MAX_SPP, image_side, tolerance_problem
 from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
 from warpviz.scene.native import native_scene
@@ -265,10 +265,9 @@ def render(
         raise ValueError(f"lens_images must be 1-4, got {options['lens_images']}")
     if options["stepper"] not in STEPPERS:
         raise ValueError(f"unknown stepper {options['stepper']!r} (known: {', '.join(STEPPERS)})")
-    lo, hi = tolerance_range(options["stepper"])
-    if not lo <= options["tol"] <= hi:
-        raise ValueError(f"tol = {options['tol']:g} is outside what {options['stepper']} can meet in double "
-                         f"precision: use [{lo:g}, {hi:g}]")  # fmt: skip
+    problem = tolerance_problem(options["stepper"], options["tol"])
+    if problem:
+        raise ValueError(problem)
     options["max_drift"] = (default_max_drift(options["tol"]) if options["max_drift"] is None
                             else _real_in("max_drift", options["max_drift"], 0.0, math.inf))  # fmt: skip
     options["threads"] = _positive_int("threads", threads, allow_zero=True)

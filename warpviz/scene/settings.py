@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from warpviz.limits import MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, tolerance_range
+from warpviz.limits import MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, tolerance_problem
 from warpviz._native import core, registered_metrics
 from warpviz.scene.native import SCHEMA
 from warpviz.scene.reader import _describe, _Reader, did_you_mean, key_name
@@ -109,11 +109,9 @@ def _render_table(r: _Reader, path: tuple, tbl: Any, *, allow_paper: bool) -> di
             out[key] = r.choice(tbl, path, key, args[0])
     if "tol" in out:
         # Without a stepper here, the renderer's (dopri5 by default; render() checks the one it uses).
-        stepper = out.get("stepper", "dopri5")
-        lo, hi = tolerance_range(stepper)
-        if not lo <= out["tol"] <= hi:
-            raise r.error(path + ("tol",), f"{key_name(path + ('tol',))} = {out['tol']:g} is outside what {stepper} "
-                          f"can meet in double precision: use [{lo:g}, {hi:g}]")  # fmt: skip
+        problem = tolerance_problem(out.get("stepper", "dopri5"), out["tol"])
+        if problem:
+            raise r.error(path + ("tol",), f"{key_name(path)}.{problem}")
     return out
 
 

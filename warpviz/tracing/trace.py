@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from warpviz._native import core, registered_metrics
-from warpviz.limits import tolerance_range
+from warpviz.limits import tolerance_problem
 from warpviz.spacetime import Metric, metric_from_dict
 from warpviz.tracing.rays import RayBundle, recorded_point_data
 
@@ -145,9 +145,9 @@ def trace(
     if stepper not in STEPPERS:
         raise ValueError(f"unknown stepper {stepper!r}; choose one of {', '.join(STEPPERS)}")
     tol = float(_number("tol", tol, lo=0.0, hi=1.0))
-    lo, hi = tolerance_range(stepper)
-    if not lo <= tol <= hi:
-        raise ValueError(f"tol = {tol:g} is outside what {stepper} can meet in double precision: use [{lo:g}, {hi:g}]")
+    problem = tolerance_problem(stepper, tol)
+    if problem:
+        raise ValueError(problem)
     max_steps = int(_number("max_steps", max_steps, lo=0, hi=2**62, integer=True))
     escape_radius = float(_number("escape_radius", escape_radius, lo=0.0))
     threads = int(_number("threads", threads, lo=-1, hi=4096, integer=True))
