@@ -1,6 +1,6 @@
 """The ``warpviz`` command line: render, trace, view and check scenes.
 
-Commands: ``render``, ``trace``, ``view``, ``validate``, ``scenes``, ``bench``, ``doctor``; ``warpviz COMMAND
+Commands: ``render``, ``trace``, ``view``, ``serve``, ``validate``, ``scenes``, ``bench``, ``doctor``; ``warpviz COMMAND
 --help`` describes each. A scene is given as a path to a TOML file or as the name of a shipped scene
 (``fig07``; see :mod:`warpviz.scene.catalog`).
 
@@ -506,6 +506,40 @@ def _quiet_vtk():
             yield
     finally:
         vtkObject.SetGlobalWarningDisplay(previous)
+
+
+@app.command()
+def serve(
+    scene: str = typer.Argument(..., help="Scene (.toml or shipped name)."),
+    port: int = typer.Option(8080, "--port", min=0, max=65535, help="TCP port to listen on; 0 picks a free one."),
+    host: str = typer.Option("127.0.0.1", "--host", help="Interface to listen on (default: this machine only)."),
+    open_browser: bool = typer.Option(True, "--browser/--no-browser", help="Open the page in the default browser."),
+    preview_width: int = typer.Option(96, "--preview-width", min=8, max=1024, help="Width of the preview render."),
+    spp: int = typer.Option(4, "--spp", min=1, max=1024, help="Samples per pixel of the preview render."),
+) -> None:
+    """Serve the teaching view as a local web page: the image, the 3-D rays, sliders for the metric and camera.
+
+    Needs pip install "warpviz[web]". Stop it with Ctrl-C.
+    """
+    with _guard():
+        try:
+            from warpviz.web.app import require_web, serve as serve_app
+
+            require_web()
+        except ImportError as exc:
+            _fail(str(exc), EXIT_BAD_INPUT)
+        if not looks_like_path(scene) or Path(scene).is_file():
+            sc = load_scene(scene)
+        else:
+            _fail(f"{scene}: no such file", EXIT_BAD_INPUT)
+        err.print(f"rendering the preview of {sc.path.name if sc.path else scene} ...")
+
+        def ready(url: str) -> None:
+            out.print(f"serving the teaching view at {url} (Ctrl-C stops)", soft_wrap=True)
+            sys.stdout.flush()
+
+        serve_app(sc, port=port, host=host, open_browser=open_browser, preview_width=preview_width, spp=spp,
+                  ready=ready)  # fmt: skip
 
 
 @app.command()
