@@ -187,3 +187,14 @@ def test_light_connection_benchmark_quick_mode(tmp_path):
         assert r["cpu_s"] > 0 and r["rel_mse"] > 0 and r["efficiency"] > 0
         if r["room"] == "fig07" and r["max_depth"] == "scene":
             assert r["over_brute"] > 0 and r["over_seed"] > 0 and r["flat_over_this"] > 0
+
+
+def test_mitsuba_cornell_quick(tmp_path):
+    """The comparison on Mitsuba's own box runs and writes both measurements (needs pip install mitsuba)."""
+    pytest.importorskip("mitsuba")
+    import bench_mitsuba_cornell
+
+    rows = bench_mitsuba_cornell.main(["--quick", "--out", str(tmp_path)])
+    assert [r["measure"] for r in rows] == ["speed", "speed", "radiance"]
+    assert rows[0]["warpviz_over_mitsuba_min"] > 0 and rows[2]["blocks"] == 16
+    assert (tmp_path / "mitsuba_cornell.csv").is_file()

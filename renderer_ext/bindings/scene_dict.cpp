@@ -249,13 +249,8 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
       sc.spheres.push_back(s);
       sc.prims.push_back(pr);
     } else if (ty == "quad") {
-      Quad q;
-      q.corner = vec3(t, "corner", w);
-      q.eu = vec3(t, "edge_u", w);
-      q.ev = vec3(t, "edge_v", w);
-      const V3 c = cross(q.eu, q.ev);
-      q.area = length(c);
-      q.normal = c / q.area;
+      const V3 corner = vec3(t, "corner", w), eu = vec3(t, "edge_u", w), ev = vec3(t, "edge_v", w);
+      const Quad q = make_quad(corner, eu, ev);
       pr.kind = PrimKind::kQuad;
       pr.index = int32_t(sc.quads.size());
       sc.quads.push_back(q);

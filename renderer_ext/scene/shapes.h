@@ -22,7 +22,25 @@ struct Sphere {
 struct Quad {
   V3 corner, eu, ev, normal;  // normal = normalize(eu x ev)
   double area;
+  // Dual edge vectors: a point p of the plane is corner + s eu + r ev with s = (p - corner).du and
+  // r = (p - corner).dv (make_quad), which the intersection test uses instead of solving for them.
+  V3 du, dv;
 };
+
+// A quad with corner c and edges eu, ev (not parallel), its normal, area and dual edges filled in.
+inline Quad make_quad(V3 c, V3 eu, V3 ev) {
+  Quad q;
+  q.corner = c;
+  q.eu = eu;
+  q.ev = ev;
+  const V3 n = cross(eu, ev);
+  q.area = length(n);
+  q.normal = n / q.area;
+  const double uu = dot(eu, eu), uv = dot(eu, ev), vv = dot(ev, ev), det = uu * vv - uv * uv;
+  q.du = (eu * vv - ev * uv) / det;
+  q.dv = (ev * uu - eu * uv) / det;
+  return q;
+}
 
 struct Disk {
   V3 center, normal, axis_u, axis_v;  // axis_u = meridian projected into the plane
@@ -81,8 +99,8 @@ inline bool intersect(const Quad& q, V3 o, V3 d, double tmin, double tmax, doubl
   if (dn == 0.0) return false;
   const double tt = dot(q.corner - o, q.normal) / dn;
   if (!(tt > tmin && tt < tmax)) return false;
-  double s, r;
-  plane_coords(o + d * tt, q.corner, q.eu, q.ev, s, r);
+  const V3 w = o + d * tt - q.corner;
+  const double s = dot(w, q.du), r = dot(w, q.dv);
   if (s < 0.0 || s > 1.0 || r < 0.0 || r > 1.0) return false;
   t = tt;
   return true;
