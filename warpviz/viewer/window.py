@@ -201,17 +201,23 @@ class TeachingView:
         cam.SetViewUp(0.0, 1.0, 0.0)
         self._image_renderer.ResetCameraClippingRange()
 
-    def _embed_surfaces(self, surfaces):
-        """The scene's shapes laid on the embedding diagram (each point on its shape's sheet)."""
+    def _embed_surfaces(self, surfaces, reach: float):
+        """The scene's shapes laid on the embedding diagram (each point on its shape's sheet), without the
+        cells that reach farther than ``reach`` from the centre (a distant sun would shrink the diagram to
+        a dot)."""
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
         mesh = surfaces.copy()
         cell_sheet = np.asarray(mesh.cell_data["sheet"], dtype=np.float64)
         point_sheet = np.ones(mesh.n_points)
-        from vtkmodules.util.numpy_support import vtk_to_numpy
-
         polys = mesh.GetPolys()  # the shapes are triangles and quads: each point takes its cell's sheet
         offsets = vtk_to_numpy(polys.GetOffsetsArray())
         point_sheet[vtk_to_numpy(polys.GetConnectivityArray())] = np.repeat(cell_sheet, np.diff(offsets))
-        mesh.points = self._embed(np.asarray(mesh.points, dtype=np.float64), np.where(point_sheet < 0, -1, 1))
+        points = np.asarray(mesh.points, dtype=np.float64)
+        near = np.linalg.norm(points, axis=1) <= reach
+        mesh.points = self._embed(points, np.where(point_sheet < 0, -1, 1))
+        if not near.all():
+            mesh = mesh.extract_points(near, adjacent_cells=False)
         return mesh
 
     def _draw_scene(self, content: ViewContent):
@@ -267,12 +273,16 @@ class TeachingView:
         if surfaces is not None and surfaces.n_cells:
             surfaces.cell_data["display_rgb"] = _surface_rgb(surfaces, content.native_scene)
             if self._embedding and "sheet" in surfaces.cell_data:  # both sides of the throat, on the diagram
-                shown_surfaces = self._embed_surfaces(surfaces)
-                sheets = np.asarray(surfaces.cell_data["sheet"])
+                rim = max((float(np.max(np.linalg.norm(np.asarray(m.points)[:, :2], axis=1)))
+                           for m in focus if m.n_points), default=0.0)  # fmt: skip
+                reach = max(rim, 1.25 * float(np.linalg.norm(self.camera["position"])) if self.camera else 0.0)
+                shown_surfaces = self._embed_surfaces(surfaces, reach)
+                sheets = np.asarray(shown_surfaces.cell_data["sheet"])
                 drawn += (["surfaces"] if (sheets > 0).any() else []) + (["other_surfaces"] if (sheets < 0).any() else [])
-                p.add_mesh(shown_surfaces, scalars="display_rgb", rgb=True, opacity=0.8, show_scalar_bar=False,
-                           pickable=False, name="surfaces")  # fmt: skip
-                focus.append(shown_surfaces)
+                if shown_surfaces.n_cells:
+                    p.add_mesh(shown_surfaces, scalars="display_rgb", rgb=True, opacity=0.8, show_scalar_bar=False,
+                               pickable=False, name="surfaces")  # fmt: skip
+                    focus.append(shown_surfaces)
             elif not self._embedding:
                 p.add_mesh(surfaces, scalars="display_rgb", rgb=True, opacity=0.3, show_scalar_bar=False,
                            pickable=False, name="surfaces")  # fmt: skip
