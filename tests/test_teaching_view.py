@@ -300,3 +300,84 @@ def test_view_flags_headless_screenshot(tmp_path, monkeypatch):
         rgb = np.asarray(pv.read(shot).point_data["PNGImage"])[:, :3].astype(int)
         lime.append(int(np.sum(np.all(np.abs(rgb - (0, 255, 0)) <= 40, axis=-1))))
     assert lime[1] > lime[0] + 200
+
+
+# --------------------------------------------------------------------------------------------------
+# the progressive image
+
+
+def test_progressive_preview_doubles_its_samples_and_converges():
+    """Each step averages a pass with as many new samples as so far; the mean approaches a 256-spp render."""
+    from warpviz.viewer.progressive import ProgressivePreview
+
+    scene = black_hole_scene(width=24, height=12)
+    reference = np.asarray(wv.render(scene, spp=256, seed=99, aovs=[]).rgb, dtype=np.float64)
+    first = wv.render(scene, spp=2, seed=5, aovs=[])
+    preview = ProgressivePreview(scene, width=24, height=12, spp=2, seed=5, max_spp=64, first=first.rgb)
+    np.testing.assert_array_equal(preview.image(), first.to_uint8())
+    samples, errors = [preview.samples], [float(np.sqrt(np.mean((preview.rgb - reference) ** 2)))]
+    while (image := preview.step()) is not None:
+        assert image.shape == (12, 24, 3) and image.dtype == np.uint8
+        samples.append(preview.samples)
+        errors.append(float(np.sqrt(np.mean((preview.rgb - reference) ** 2))))
+    assert samples == [2, 4, 8, 16, 32, 64] and preview.done and preview.passes == 6
+    # noise falls as 1/sqrt(spp): 32x the samples, about 1/5.7 of the error (the reference's own noise aside)
+    assert errors[-1] < 0.3 * errors[0]
+    assert all(b < a * 1.15 for a, b in zip(errors, errors[1:]))  # never noticeably worse
+    # the passes are independent: a second pass's seed differs from the first's
+    again = ProgressivePreview(scene, width=24, height=12, spp=2, seed=5, max_spp=4)
+    again.step()
+    np.testing.assert_array_equal(again.rgb, first.rgb)
+    one = again.rgb.copy()
+    again.step()
+    assert not np.array_equal(again.rgb, one)
+    with pytest.raises(ValueError, match="spp <= max_spp"):
+        ProgressivePreview(scene, width=24, height=12, spp=8, max_spp=4)
+    with pytest.raises(ValueError, match=r"first must have shape \(12, 24, 3\)"):
+        ProgressivePreview(scene, width=24, height=12, first=np.zeros((3, 3, 3)))
+
+
+def test_view_refines_its_image_in_the_background():
+    import time
+
+    plotter = wv.view(black_hole_scene(), off_screen=True, return_plotter=True, window_size=WINDOW,
+                      preview_width=24, spp=1)  # fmt: skip
+    try:
+        tv = plotter.teaching_view
+        before = plotter.renderers[0].actors["image"].mapper.dataset.cell_data["rgb"].copy()
+        assert tv.image_samples == 1 and tv.status().endswith("image: 1 samples per pixel")
+        refiner = tv.start_refining(max_spp=16, refresh_ms=50)
+        assert refiner is not None and tv.start_refining() is None  # once
+        seen = [tv.image_samples]
+        deadline = time.monotonic() + 60
+        while tv.image_samples < 16 and time.monotonic() < deadline:
+            time.sleep(0.02)
+            if tv._on_timer():  # what the VTK timer calls in a window
+                seen.append(tv.image_samples)
+        # the newest image each time (a pass finished between two looks is skipped), the count doubling
+        assert seen[-1] == 16 and set(seen) <= {1, 2, 4, 8, 16} and seen == sorted(set(seen))
+        assert refiner.error is None
+        refiner._thread.join(5)
+        assert not refiner.running
+        shown = plotter.renderers[0].actors["image"].mapper.dataset.cell_data["rgb"]
+        assert not np.array_equal(shown, before)
+        np.testing.assert_array_equal(shown, np.ascontiguousarray(tv.image[::-1].reshape(-1, 3)))
+        np.testing.assert_array_equal(tv.image, refiner.preview.image())
+        assert "image: 16 samples per pixel" in tv.status()
+    finally:
+        plotter.teaching_view.stop_refining()
+        plotter.close()
+
+
+def test_stopping_the_refiner_ends_the_pass_under_way():
+    import time
+
+    from warpviz.viewer.progressive import BackgroundRefiner, ProgressivePreview
+
+    preview = ProgressivePreview(black_hole_scene(width=160, height=80), width=160, height=80, spp=64, max_spp=4096)
+    refiner = BackgroundRefiner(preview).start()
+    time.sleep(0.2)
+    t0 = time.monotonic()
+    refiner.stop()
+    assert not refiner.running and time.monotonic() - t0 < 2.0 and refiner.error is None
+    assert preview.samples < 4096

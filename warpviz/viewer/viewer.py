@@ -76,6 +76,7 @@ def view(
     preview_width: int = 96,
     spp: int = 4,
     jupyter_backend: str | None = None,
+    refine: bool = True,
 ):
     """Show a render beside the 3-D paths of its light rays.
 
@@ -120,6 +121,11 @@ def view(
         Width in pixels of the preview render of a scene.
     spp : int, keyword-only
         Samples per pixel of the preview render.
+    refine : bool, keyword-only
+        In a window, refine a scene's preview while the window is open: passes with more samples render
+        on a background thread and replace the image (:meth:`TeachingView.start_refining`, up to
+        :data:`~warpviz.viewer.progressive.DEFAULT_MAX_SPP` samples per pixel). Off-screen and with
+        ``return_plotter`` the image stays the preview (call ``start_refining`` yourself).
     jupyter_backend : str, optional, keyword-only
         Passed to :meth:`pyvista.Plotter.show` in Jupyter: ``"trame"`` (server-side rendering: clicks
         and keys work), ``"client"`` (browser-side, no picking) or ``"static"`` (a picture).
@@ -186,8 +192,13 @@ def view(
         finally:
             plotter.close()
     shot = Path(screenshot) if screenshot is not None else None
-    plotter.show(title=f"warpviz: {content.title}", screenshot=str(shot) if shot else None,
-                 jupyter_backend=jupyter_backend)  # fmt: skip
+    if refine:
+        teaching.start_refining()
+    try:
+        plotter.show(title=f"warpviz: {content.title}", screenshot=str(shot) if shot else None,
+                     jupyter_backend=jupyter_backend)  # fmt: skip
+    finally:
+        teaching.stop_refining()
     return shot
 
 

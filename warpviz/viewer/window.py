@@ -28,6 +28,7 @@ from warpviz.viewer.annotations import (
 )
 from warpviz.viewer.meshes import _around, _first_points, _focus_bounds, _image_grid, _pixel_outlines, _surface_rgb
 from warpviz.viewer.picking import image_cell_to_pixel, pixel_for_ray, rays_for_pixel, recorded_pixels
+from warpviz.viewer.progressive import DEFAULT_MAX_SPP, DEFAULT_REFRESH_MS, BackgroundRefiner, ProgressivePreview
 from warpviz.viewer.view_content import ViewContent
 
 __all__ = ["SCALAR_TITLES", "TeachingView"]
@@ -136,6 +137,10 @@ class TeachingView:
         self.metric = content.metric
         self.camera = dict(content.camera) if content.camera is not None else None
         self.pixel_labels = dict(content.pixel_labels)
+        self.source = content.source
+        self.preview = dict(content.preview) if content.preview is not None else None
+        self.image_samples = self.preview["spp"] if self.preview is not None else None
+        self.refiner = None
         self.selected: list[tuple[int, int]] = []
         self.picked_ray: int | None = None
         self.flat_visible = bool(show_flat)
@@ -463,6 +468,84 @@ class TeachingView:
         sheets = np.broadcast_to(np.asarray(sheet), (points.shape[0],))
         return ellis_embedding_points(self.metric, points, sheets)
 
+    # ---------------------------------------------------------------- progressive image
+
+    def set_image(self, image: np.ndarray, *, samples: int | None = None) -> None:
+        """Show a new picture of the same size in the image panel (a refined preview).
+
+        Parameters
+        ----------
+        image : numpy.ndarray
+            (H, W, 3) uint8 sRGB, the size of the current image.
+        samples : int, optional, keyword-only
+            Its samples per pixel, for the status line.
+        """
+        image = np.asarray(image)
+        if self.image is None or image.shape != self.image.shape or image.dtype != np.uint8:
+            want = None if self.image is None else self.image.shape
+            raise ValueError(f"set_image needs a {want} uint8 image, got {image.shape} {image.dtype}")
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        self.image = image
+        colors = self._image_actor.GetMapper().GetInput().GetCellData().GetArray("rgb")
+        vtk_to_numpy(colors)[:] = image[::-1].reshape(-1, 3)  # in place: the mapper keeps its array
+        colors.Modified()
+        if samples is not None:
+            self.image_samples = int(samples)
+        self.refresh()
+
+    def start_refining(self, *, max_spp: int = DEFAULT_MAX_SPP, refresh_ms: int = DEFAULT_REFRESH_MS,
+                       threads: int | None = None) -> BackgroundRefiner | None:  # fmt: skip
+        """Refine the image while the window is open: passes of the preview with more samples are
+        rendered on a background thread (:class:`~warpviz.viewer.progressive.BackgroundRefiner`) and
+        swapped in by a VTK timer every ``refresh_ms``.
+
+        Parameters
+        ----------
+        max_spp : int, keyword-only
+            Samples per pixel at which refining stops.
+        refresh_ms : int, keyword-only
+            How often the window takes the newest image.
+        threads : int, optional, keyword-only
+            Render threads (default: the renderer's).
+
+        Returns
+        -------
+        BackgroundRefiner or None
+            The worker, or None when the view has no scene to refine (a render or rays given, not a
+            scene) or already refines.
+        """
+        if self.refiner is not None or self.source is None or self.preview is None or self.image is None:
+            return None
+        preview = ProgressivePreview(self.source, width=self.preview["width"], height=self.preview["height"],
+                                     spp=self.preview["spp"], seed=self.preview.get("seed") or 0,
+                                     max_spp=max(int(max_spp), self.preview["spp"]), first=self.preview.get("rgb"),
+                                     threads=threads)  # fmt: skip
+        self.refiner = BackgroundRefiner(preview).start()
+        iren = self.plotter.iren
+        if iren is not None:
+            iren.add_observer("TimerEvent", _weak(self._on_timer))
+            self._timer_id = iren.create_timer(int(refresh_ms), repeating=True)
+        return self.refiner
+
+    def _on_timer(self, *_) -> bool:
+        """Swap in the refiner's newest image, if there is one; returns whether the image changed."""
+        latest = self.refiner.take() if self.refiner is not None else None
+        if latest is None:
+            return False
+        samples, image = latest
+        self.set_image(image, samples=samples)
+        return True
+
+    def stop_refining(self) -> None:
+        """Stop the background passes (the image keeps its last refinement)."""
+        if self.refiner is not None:
+            self.refiner.stop()
+            timer = getattr(self, "_timer_id", None)
+            if timer is not None and self.plotter.iren is not None:
+                self.plotter.iren.interactor.DestroyTimer(timer)
+                self._timer_id = None
+
     # ---------------------------------------------------------------- selection
 
     def select_pixels(self, pixels) -> None:
@@ -644,7 +727,10 @@ class TeachingView:
                 parts.append(f"pixel ({x}, {y}): no recorded paths")
             if len(self.selected) > 1:
                 parts.append(f"+{len(self.selected) - 1} more pixels")
-        return "; ".join(parts) if parts else "nothing selected"
+        text = "; ".join(parts) if parts else "nothing selected"
+        if self.image_samples is not None:
+            text += f"; image: {self.image_samples} samples per pixel"
+        return text
 
     # ---------------------------------------------------------------- clicks and keys
 
