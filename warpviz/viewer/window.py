@@ -58,9 +58,9 @@ _LOG10_FLOOR = -16.0
 #: Opacities of the landmarks (their colours are :data:`~warpviz.viewer.annotations.LEGEND_STYLE`'s).
 _FEATURE_OPACITY = {"horizon": 0.55, "ergosphere": 0.15, "photon_sphere": 0.15, "throat": 0.3}
 
-#: Where on each landmark surface its label sits: the surface point farthest along this direction.
-_LABEL_DIRECTION = {"horizon": (0.0, -0.3, 1.0), "ergosphere": (-1.0, 0.0, 0.2), "photon_sphere": (1.0, 0.0, 0.6),
-                    "throat": (1.0, 0.0, 0.0)}  # fmt: skip
+#: The landmarks' label sits at the point of their surfaces farthest along this direction (above, a
+#: little towards -y).
+_LABEL_DIRECTION = (0.0, -0.3, 1.0)
 
 _SELECTED_COLOR = LEGEND_STYLE["highlight"][1]
 _PICKED_COLOR = LEGEND_STYLE["picked"][1]
@@ -121,8 +121,9 @@ class TeachingView:
     pixel_labels : dict[tuple[int, int], str]
         What each pixel the view chose shows (labelled in the image).
     labels_3d : list of (str, numpy.ndarray)
-        The labels in the 3-D panel (landmarks with their radii, the camera) and their (3,) float64
-        anchor points as drawn.
+        The labels in the 3-D panel and their (3,) float64 anchor points as drawn: the landmarks with
+        their radii (one line each, in one label above the outermost), the camera, the wormhole's throat
+        and sheets.
     legend : list of (str, str)
         The legend's (label, colour) entries now: :func:`~warpviz.viewer.annotations.legend_entries` of
         :meth:`drawn_items`.
@@ -233,6 +234,7 @@ class TeachingView:
         focus = []
         labels = landmark_labels(self.metric)
         label_points, label_texts = [], []
+        landmark_lines, landmark_tops = [], []
         features = dict(content.features) or (metric_features(self.metric) if self.metric is not None else {})
         for name, mesh in features.items():
             if name == "embedding":
@@ -267,10 +269,13 @@ class TeachingView:
             if name in LEGEND_STYLE:
                 drawn.append(name)
             if name in labels and mesh.n_points:
-                pts = np.asarray(mesh.points, dtype=np.float64)
-                label_points.append(pts[int(np.argmax(pts @ np.asarray(_LABEL_DIRECTION.get(name, (0, 0, 1)))))])
-                label_texts.append(labels[name])
+                landmark_lines.append(labels[name])
+                landmark_tops.append(np.asarray(mesh.points, dtype=np.float64))
             focus.append(mesh)
+        if landmark_lines:  # one box of lines above the outermost landmark: nested surfaces' labels would overlap
+            tops = np.concatenate(landmark_tops)
+            label_points.append(tops[int(np.argmax(tops @ np.asarray(_LABEL_DIRECTION)))])
+            label_texts.append("\n".join(landmark_lines))
 
         surfaces = content.surfaces
         if surfaces is None and content.native_scene is not None and content.native_scene.get("shapes"):
