@@ -20,8 +20,10 @@ Examples
 ...                     "width": 8, "height": 6},
 ...          "textures": [], "materials": [], "shapes": [], "environment": {"color": [1.0, 1.0, 1.0]}}
 >>> preview = ProgressivePreview(scene, width=8, height=6, spp=1, max_spp=4)
->>> [preview.step().shape, preview.samples, preview.step() is not None, preview.samples, preview.step()]
-[(6, 8, 3), 1, True, 2, None]
+>>> preview.step().shape, preview.samples
+((6, 8, 3), 1)
+>>> [(preview.step() is not None, preview.samples) for _ in range(3)]
+[(True, 2), (True, 4), (False, 4)]
 """
 
 from __future__ import annotations
