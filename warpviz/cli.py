@@ -441,6 +441,14 @@ def view(
         None, "--screenshot", help="Write a PNG of the view; without a display the view is only written."
     ),
     force: bool = typer.Option(False, "--force", help="Replace an existing screenshot that warpviz did not write."),
+    bounces: Optional[int] = typer.Option(
+        None, "--bounces", help="Draw each recorded path up to this bounce (0: camera segments only). Default: "
+        "camera segments for the pixels the view chooses, every bounce for --pixels; key n shows one more."),
+    flat_ray: bool = typer.Option(
+        False, "--flat-ray", help="Draw the straight flat-space ray (no gravity) beside each shown pixel's bent one."),
+    color_by: Optional[str] = typer.Option(
+        None, "--color-by", help="Colour the paths by drift (largest relative drift of the conserved quantities, "
+        "the default), r, redshift or affine (the affine parameter); key c cycles them."),
 ) -> None:
     """Open the PyVista teaching view: the image beside the 3-D paths of its light rays."""
     with _guard():
@@ -459,6 +467,18 @@ def view(
         options: dict[str, Any] = {}
         if pixels:
             options["pixels"] = _parse_pixels(pixels)
+        if bounces is not None:
+            if bounces < 0:
+                _fail(f"--bounces must be 0 (camera segments only) or more, got {bounces}", EXIT_BAD_INPUT)
+            options["bounces"] = bounces
+        if flat_ray:
+            options["show_flat"] = True
+        if color_by is not None:
+            from warpviz.viewer.annotations import COLORINGS
+
+            if color_by not in COLORINGS:
+                _fail(f"--color-by must be one of {', '.join(COLORINGS)}, got {color_by!r}", EXIT_BAD_INPUT)
+            options["color_by"] = color_by
         if screenshot is not None:
             options["screenshot"] = _output_path(screenshot, (".png",), force=force)
         else:

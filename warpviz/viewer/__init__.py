@@ -3,7 +3,8 @@
 :func:`view` (:mod:`~warpviz.viewer.viewer`) opens the window; :mod:`~warpviz.viewer.window` holds its
 state (:class:`TeachingView`), :mod:`~warpviz.viewer.view_content` gathers what is shown from a render,
 rays, a file or a scene, :mod:`~warpviz.viewer.picking` maps pixels to recorded rays and back,
-:mod:`~warpviz.viewer.meshes` builds the display meshes and :mod:`~warpviz.viewer.offscreen` decides
+:mod:`~warpviz.viewer.annotations` names what is drawn (colour bars,
+labels, title, legend), :mod:`~warpviz.viewer.meshes` builds the display meshes and :mod:`~warpviz.viewer.offscreen` decides
 whether a window opens. PyVista and VTK are imported when a view is made, not with this package.
 """
 

@@ -63,7 +63,8 @@ class ViewContent:
     source : scene or None
         The scene the image was rendered from (a Scene or native dict), so the view can refine it.
     preview : dict or None
-        ``width``, ``height``, ``spp`` and ``seed`` of that render.
+        ``width``, ``height``, ``spp`` and ``seed`` of that render, and ``rgb``: its (height, width, 3)
+        float32 linear radiance (the first pass of :class:`~warpviz.viewer.progressive.ProgressivePreview`).
     """
 
     title: str
@@ -225,7 +226,8 @@ def _content_from_scene(scene, *, pixels, preview_width: int, spp: int) -> ViewC
     content = _content_from_image(img)
     content.pixel_labels = labels
     content.source = scene
-    content.preview = {"width": width, "height": height, "spp": spp, "seed": img.metadata.get("seed")}
+    content.preview = {"width": width, "height": height, "spp": spp, "seed": img.metadata.get("seed"),
+                       "rgb": np.asarray(img.rgb)}
     return content
 
 

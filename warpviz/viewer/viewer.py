@@ -1,20 +1,28 @@
 """The teaching view: a rendered image beside the 3-D paths of its light rays, linked by clicks.
 
 :func:`view` opens a PyVista window with two panels. On the left is the rendered image (tonemapped
-with :meth:`warpviz.Image.to_uint8`) with the pixels whose paths were recorded outlined; on the right
-the 3-D scene: the recorded rays as polylines coloured by their ``log10_error`` (log10 of the largest
-reported drift of a conserved quantity: relative, |X − X₀| / |X₀|, where X₀ is not negligible against its
-terms, term-scaled otherwise and for H; see :class:`warpviz.RayBundle`), the scene's shapes, the spacetime's landmarks (horizon,
-ergosphere, photon sphere or Kerr photon region, Ellis throat) drawn translucent and the camera frustum.
-An Ellis wormhole is drawn as its embedding diagram with the rays on it, both sheets visible.
+with :meth:`warpviz.Image.to_uint8`) with the pixels whose paths were recorded outlined and the pixels the
+view chose labelled (shadow edge, lensed light, plain); on the right the 3-D scene: the recorded rays as
+polylines coloured by the largest relative drift of their conserved quantities (``log10_error``:
+|X − X₀| / |X₀| where X₀ is not negligible against its terms, term-scaled otherwise and for H; see
+:class:`warpviz.RayBundle`), or by ``r``, redshift or affine parameter, with a colour bar naming the
+quantity; the scene's shapes; the spacetime's landmarks (horizon, ergosphere, photon sphere or Kerr photon
+region, Ellis throat) drawn translucent and labelled with their radii; the camera; axes in M; a title
+with the metric and its parameters and a legend of what is drawn. An Ellis wormhole is drawn as its
+embedding diagram with the rays and the objects of both sheets on it. By default only the camera
+segment of each chosen pixel's paths is drawn; bounces come on demand.
 
 * Click a pixel in the image (a left click without dragging, or a right click): its recorded paths
   light up in 3-D.
 * Click a ray in 3-D: its pixel is outlined in the image and its paths light up.
 * Press ``f`` (or tick the box in the 3-D panel): the straight flat-space camera ray of each selected
-  pixel is drawn beside the bent one.
+  pixel (without a selection: of each chosen pixel) is drawn beside the bent one.
+* Press ``c``: the next colouring (drift, r, redshift, affine parameter).
+* Press ``n``: one bounce more of each path (after the last: all of them; then back to the camera
+  segments).
 
-The logic behind the clicks lives in :mod:`warpviz.viewer.picking` and :mod:`warpviz.scene.camera` (pure
+The words of the view (colour-bar titles, labels, title, legend) come from
+:mod:`~warpviz.viewer.annotations` (pure functions). The logic behind the clicks lives in :mod:`warpviz.viewer.picking` and :mod:`warpviz.scene.camera` (pure
 functions); :class:`~warpviz.viewer.window.TeachingView` holds the state of one window and can be driven
 from code, which is how the view is tested off-screen. This module holds the entry point :func:`view`;
 :mod:`~warpviz.viewer.view_content` gathers what is shown, :mod:`~warpviz.viewer.meshes` builds the
@@ -28,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from warpviz.viewer.annotations import DEFAULT_COLORING, default_bounces
 from warpviz.viewer.offscreen import default_off_screen
 from warpviz.viewer.view_content import view_content
 from warpviz.viewer.window import TeachingView
@@ -60,12 +69,14 @@ def view(
     window_size: tuple[int, int] = (1400, 700),
     pixels=None,
     show_flat: bool = False,
-    color_by: str = "log10_error",
+    color_by: str = DEFAULT_COLORING,
+    bounces: int | None | str = "auto",
     theme=None,
     return_plotter: bool = False,
     preview_width: int = 96,
     spp: int = 4,
     jupyter_backend: str | None = None,
+    refine: bool = True,
 ):
     """Show a render beside the 3-D paths of its light rays.
 
@@ -90,9 +101,17 @@ def view(
         their flat-space rays drawn with ``show_flat``). For a scene, the pixels whose paths are
         recorded (at the preview size).
     show_flat : bool, keyword-only
-        Start with the straight flat-space camera rays of the selected pixels shown (key ``f``).
+        Start with the straight flat-space camera rays shown (key ``f``): of the selected pixels, or
+        without a selection of the pixels the view chose.
     color_by : str, keyword-only
-        Point array the rays are coloured by (``"log10_error"``, ``"r"``, ``"affine_param"``, ...).
+        What the rays are coloured by: a colouring of
+        :data:`~warpviz.viewer.annotations.COLORINGS` (``"drift"``: log10 of the largest relative drift
+        of the conserved quantities, ``"r"``, ``"redshift"``, ``"affine"``; key ``c`` cycles them) or any
+        point array of the rays (``"log10_error"``, ``"step_size"``, ...).
+    bounces : int or None or "auto", keyword-only
+        Largest bounce of each recorded path drawn (0: the camera segments only; None: every segment;
+        key ``n`` shows one more). ``"auto"``: :func:`~warpviz.viewer.annotations.default_bounces`
+        (camera segments for the pixels the view chose, everything for pixels given).
     theme : str or pyvista.plotting.themes.Theme, optional, keyword-only
         ``"document"``, ``"dark"``, ``"paraview"``, ``"document_pro"`` or a Theme; default PyVista's.
     return_plotter : bool, keyword-only
@@ -102,6 +121,11 @@ def view(
         Width in pixels of the preview render of a scene.
     spp : int, keyword-only
         Samples per pixel of the preview render.
+    refine : bool, keyword-only
+        In a window, refine a scene's preview while the window is open: passes with more samples render
+        on a background thread and replace the image (:meth:`TeachingView.start_refining`, up to
+        :data:`~warpviz.viewer.progressive.DEFAULT_MAX_SPP` samples per pixel). Off-screen and with
+        ``return_plotter`` the image stays the preview (call ``start_refining`` yourself).
     jupyter_backend : str, optional, keyword-only
         Passed to :meth:`pyvista.Plotter.show` in Jupyter: ``"trame"`` (server-side rendering: clicks
         and keys work), ``"client"`` (browser-side, no picking) or ``"static"`` (a picture).
@@ -116,7 +140,8 @@ def view(
     TypeError
         ``obj`` is none of the accepted kinds.
     ValueError
-        A bundle without recorded paths, or ``color_by`` not a point array of the rays.
+        A bundle without recorded paths, ``color_by`` neither a colouring nor a point array of the rays,
+        or ``bounces`` negative.
 
     Examples
     --------
@@ -136,14 +161,20 @@ def view(
     theme = _theme(theme)
     if pixels is not None:
         pixels = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
+    if isinstance(bounces, str) and bounces != "auto":
+        raise ValueError(f"bounces must be an integer >= 0, None or 'auto', got {bounces!r}")
+    if bounces is not None and not isinstance(bounces, str) and int(bounces) < 0:
+        raise ValueError(f"bounces must be >= 0 (0: camera segments only), got {bounces}")
     content = view_content(obj, pixels=pixels, preview_width=preview_width, spp=spp)
+    if bounces == "auto":
+        bounces = default_bounces(bool(content.pixel_labels))
     if off_screen is None:
         off_screen = default_off_screen()
     shape = (1, 2) if content.image is not None else (1, 1)
     plotter = pv.Plotter(shape=shape, off_screen=bool(off_screen), window_size=list(window_size),
                          theme=theme, border=False)  # fmt: skip
     try:
-        teaching = TeachingView(content, plotter, color_by=color_by, show_flat=show_flat)
+        teaching = TeachingView(content, plotter, color_by=color_by, show_flat=show_flat, bounces=bounces)
         if pixels is not None:
             teaching.select_pixels(pixels)
         getattr(pv, "set_new_attribute", setattr)(plotter, "teaching_view", teaching)
@@ -161,8 +192,13 @@ def view(
         finally:
             plotter.close()
     shot = Path(screenshot) if screenshot is not None else None
-    plotter.show(title=f"warpviz: {content.title}", screenshot=str(shot) if shot else None,
-                 jupyter_backend=jupyter_backend)  # fmt: skip
+    if refine:
+        teaching.start_refining()
+    try:
+        plotter.show(title=f"warpviz: {content.title}", screenshot=str(shot) if shot else None,
+                     jupyter_backend=jupyter_backend)  # fmt: skip
+    finally:
+        teaching.stop_refining()
     return shot
 
 

@@ -13,8 +13,22 @@ import numpy as np
 from warpviz.scene import camera_basis, camera_frustum, flat_camera_ray, scene_surfaces
 from warpviz.spacetime import ellis_embedding, ellis_embedding_points, metric_features
 from warpviz.tracing import RayStatus
+from warpviz.viewer.annotations import (
+    COLORINGS,
+    DEFAULT_COLORING,
+    LEGEND_STYLE,
+    coloring_array,
+    coloring_title,
+    landmark_labels,
+    legend_entries,
+    length_unit,
+    next_coloring,
+    view_title,
+    visible_ray_ids,
+)
 from warpviz.viewer.meshes import _around, _first_points, _focus_bounds, _image_grid, _pixel_outlines, _surface_rgb
 from warpviz.viewer.picking import image_cell_to_pixel, pixel_for_ray, rays_for_pixel, recorded_pixels
+from warpviz.viewer.progressive import DEFAULT_MAX_SPP, DEFAULT_REFRESH_MS, BackgroundRefiner, ProgressivePreview
 from warpviz.viewer.view_content import ViewContent
 
 __all__ = ["SCALAR_TITLES", "TeachingView"]
@@ -41,17 +55,20 @@ SCALAR_TITLES = {
 #: log10 of double precision: smaller errors (exactly conserved, e.g. flat space) are shown as this.
 _LOG10_FLOOR = -16.0
 
-#: Colours and opacities of the landmarks.
-_FEATURE_STYLE = {
-    "horizon": ("black", 0.55),
-    "ergosphere": ("orange", 0.15),
-    "photon_sphere": ("deepskyblue", 0.15),
-    "throat": ("mediumpurple", 0.3),
-}
-_SELECTED_COLOR = "magenta"
-_PICKED_COLOR = "yellow"
-_FLAT_COLOR = "lime"
-_FRUSTUM_COLOR = "darkorange"
+#: Opacities of the landmarks (their colours are :data:`~warpviz.viewer.annotations.LEGEND_STYLE`'s).
+_FEATURE_OPACITY = {"horizon": 0.55, "ergosphere": 0.15, "photon_sphere": 0.15, "throat": 0.3}
+
+#: The landmarks' label sits at the point of their surfaces farthest along this direction (above, a
+#: little towards -y).
+_LABEL_DIRECTION = (0.0, -0.3, 1.0)
+
+_SELECTED_COLOR = LEGEND_STYLE["highlight"][1]
+_PICKED_COLOR = LEGEND_STYLE["picked"][1]
+_FLAT_COLOR = LEGEND_STYLE["flat_rays"][1]
+_FRUSTUM_COLOR = LEGEND_STYLE["camera"][1]
+
+#: The 3-D panel's help line.
+_KEYS_HELP = "click a ray or pixel   f: flat-space ray   c: colouring   n: more bounces"
 
 
 def _weak(method, *, takes_args: bool = True):
@@ -97,34 +114,61 @@ class TeachingView:
         The ray last clicked in 3-D.
     flat_visible : bool
         Whether the flat-space camera rays are drawn.
+    color_by : str
+        The colouring of the rays (:data:`~warpviz.viewer.annotations.COLORINGS` or a point array).
+    bounces : int or None
+        The largest bounce of each recorded path drawn (None: all).
+    pixel_labels : dict[tuple[int, int], str]
+        What each pixel the view chose shows (labelled in the image).
+    labels_3d : list of (str, numpy.ndarray)
+        The labels in the 3-D panel and their (3,) float64 anchor points as drawn: the landmarks with
+        their radii (one line each, in one label above the outermost), the camera, the wormhole's throat
+        and sheets.
+    legend : list of (str, str)
+        The legend's (label, colour) entries now: :func:`~warpviz.viewer.annotations.legend_entries` of
+        :meth:`drawn_items`.
     """
 
-    def __init__(self, content: ViewContent, plotter, *, color_by: str = "log10_error", show_flat: bool = False):
+    def __init__(self, content: ViewContent, plotter, *, color_by: str = DEFAULT_COLORING, show_flat: bool = False,
+                 bounces: int | None = None):  # fmt: skip
         self.plotter = plotter
         self.title = content.title
         self.image = content.image
         self.rays = content.rays
         self.metric = content.metric
         self.camera = dict(content.camera) if content.camera is not None else None
+        self.pixel_labels = dict(content.pixel_labels)
+        self.source = content.source
+        self.preview = dict(content.preview) if content.preview is not None else None
+        self.image_samples = self.preview["spp"] if self.preview is not None else None
+        self.refiner = None
         self.selected: list[tuple[int, int]] = []
         self.picked_ray: int | None = None
         self.flat_visible = bool(show_flat)
+        self.color_by = str(color_by)
+        self.bounces = None if bounces is None else int(bounces)
+        if self.bounces is not None and self.bounces < 0:
+            raise ValueError(f"bounces must be >= 0 (0: camera segments only), got {bounces}")
         self._embedding = self.metric is not None and "throat" in self.metric.landmarks
         self._image_renderer = None
         self._image_actor = None
         self._rays_actor = None
+        self._bar_title: str | None = None
         self._press: tuple[int, int] | None = None
         self._named_actors: dict[str, Any] = {}
+        self._drawn: list[str] = []  # legend keys of the fixed items, in drawing order
+        self.legend: list[tuple[str, str]] = []
 
         has_image = self.image is not None
         scene_col = 1 if has_image else 0
+        self._scene_col = scene_col
         if has_image:
             plotter.subplot(0, 0)
             self._image_renderer = plotter.renderer
             self._draw_image()
         plotter.subplot(0, scene_col)
         self._scene_renderer = plotter.renderer
-        self.shown_rays = self._draw_scene(content, color_by)
+        self.shown_rays = self._draw_scene(content)
         if not has_image:
             self._status_actor = plotter.add_text("", position="lower_left", font_size=9, name="status")
         self._install_events()
@@ -142,6 +186,11 @@ class TeachingView:
             if len(marks):
                 outlines = _pixel_outlines(marks, height, pad=0.0, z=0.01)
                 p.add_mesh(outlines, color="gray", line_width=1, lighting=False, pickable=False, name="recorded")
+        if self.pixel_labels:  # what the chosen pixels show, beside them
+            xy = np.array(list(self.pixel_labels), dtype=np.float64).reshape(-1, 2)
+            points = np.column_stack([xy[:, 0] + 0.5, height - 1 - xy[:, 1] + 0.5, np.full(len(xy), 0.03)])
+            p.add_point_labels(points, list(self.pixel_labels.values()), font_size=10, point_size=1,
+                               shape_opacity=0.5, always_visible=True, pickable=False, name="pixel_labels")  # fmt: skip
         p.add_text("rendered image: click a pixel", position="upper_left", font_size=9, name="image_title")
         self._status_actor = p.add_text("", position="lower_left", font_size=9, name="status")
         p.view_xy()
@@ -158,98 +207,230 @@ class TeachingView:
         cam.SetViewUp(0.0, 1.0, 0.0)
         self._image_renderer.ResetCameraClippingRange()
 
-    def _draw_scene(self, content: ViewContent, color_by: str):
+    def _embed_surfaces(self, surfaces, reach: float):
+        """The scene's shapes laid on the embedding diagram (each point on its shape's sheet), without the
+        cells that reach farther than ``reach`` from the centre (a distant sun would shrink the diagram to
+        a dot)."""
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        mesh = surfaces.copy()
+        cell_sheet = np.asarray(mesh.cell_data["sheet"], dtype=np.float64)
+        point_sheet = np.ones(mesh.n_points)
+        polys = mesh.GetPolys()  # the shapes are triangles and quads: each point takes its cell's sheet
+        offsets = vtk_to_numpy(polys.GetOffsetsArray())
+        point_sheet[vtk_to_numpy(polys.GetConnectivityArray())] = np.repeat(cell_sheet, np.diff(offsets))
+        points = np.asarray(mesh.points, dtype=np.float64)
+        near = np.linalg.norm(points, axis=1) <= reach
+        mesh.points = self._embed(points, np.where(point_sheet < 0, -1, 1))
+        if not near.all():
+            mesh = mesh.extract_points(near, adjacent_cells=False)
+        return mesh
+
+    def _draw_scene(self, content: ViewContent):
         import pyvista as pv
 
         p = self.plotter
-        legend: list[tuple[str, str]] = []
+        drawn = self._drawn
         focus = []
+        labels = landmark_labels(self.metric)
+        label_points, label_texts = [], []
+        landmark_lines, landmark_tops = [], []
         features = dict(content.features) or (metric_features(self.metric) if self.metric is not None else {})
         for name, mesh in features.items():
             if name == "embedding":
                 sheet = np.asarray(mesh.point_data["sheet"]) if "sheet" in mesh.point_data else np.ones(mesh.n_points)
-                p.add_mesh(mesh, scalars=np.where(sheet > 0, 0.0, 1.0), cmap=["lightsteelblue", "lightsalmon"],
+                p.add_mesh(mesh, scalars=np.where(sheet > 0, 0.0, 1.0),
+                           cmap=[LEGEND_STYLE["our_sheet"][1], LEGEND_STYLE["other_sheet"][1]],
                            clim=(0, 1), opacity=0.45, smooth_shading=True, specular=0.3, show_scalar_bar=False,
                            pickable=False, name="embedding")  # fmt: skip
                 grid = ellis_embedding(self.metric, resolution=24) if self._embedding else mesh
                 p.add_mesh(grid, style="wireframe", color="slategray", opacity=0.5, line_width=1, lighting=False,
                            pickable=False, name="embedding_grid")  # fmt: skip
-                waist = pv.Polygon(center=(0.0, 0.0, 0.0), radius=self.metric.throat if self._embedding else
-                                   float(np.min(np.linalg.norm(mesh.points[:, :2], axis=1))), normal=(0, 0, 1),
-                                   n_sides=96, fill=False)  # fmt: skip
-                p.add_mesh(waist, color=_FEATURE_STYLE["throat"][0], line_width=3, pickable=False, name="waist")
-                legend += [("our sheet", "lightsteelblue"), ("other sheet", "lightsalmon"),
-                           ("throat", _FEATURE_STYLE["throat"][0])]  # fmt: skip
+                waist_radius = (self.metric.throat if self._embedding
+                                else float(np.min(np.linalg.norm(mesh.points[:, :2], axis=1))))  # fmt: skip
+                waist = pv.Polygon(center=(0.0, 0.0, 0.0), radius=waist_radius, normal=(0, 0, 1), n_sides=96,
+                                   fill=False)  # fmt: skip
+                p.add_mesh(waist, color=LEGEND_STYLE["throat"][1], line_width=3, pickable=False, name="waist")
+                drawn += ["our_sheet", "other_sheet", "throat"]
+                if "throat" in labels:
+                    label_points.append((waist_radius, 0.0, 0.0))
+                    label_texts.append(labels["throat"])
+                zs = np.asarray(mesh.points)[:, 2]
+                rim = float(np.max(np.linalg.norm(np.asarray(mesh.points)[:, :2], axis=1)))
+                label_points += [(0.0, -rim, float(zs.max())), (0.0, -rim, float(zs.min()))]
+                label_texts += [LEGEND_STYLE["our_sheet"][0], LEGEND_STYLE["other_sheet"][0] + " (through the throat)"]
                 focus.append(mesh)
                 continue
             if name == "throat" and "embedding" in features:  # drawn as the waist of the embedding diagram
                 continue
-            color, opacity = _FEATURE_STYLE.get(name, ("gray", 0.2))
-            p.add_mesh(mesh, color=color, opacity=opacity, pickable=False, smooth_shading=True, name=name)
-            legend.append((name.replace("_", " ") if not (name == "photon_sphere" and "photon_prograde" in self.metric.landmarks)
-                           else "photon region", color))  # fmt: skip
+            color = LEGEND_STYLE.get(name, ("", "gray"))[1]
+            p.add_mesh(mesh, color=color, opacity=_FEATURE_OPACITY.get(name, 0.2), pickable=False, smooth_shading=True,
+                       name=name)  # fmt: skip
+            if name in LEGEND_STYLE:
+                drawn.append(name)
+            if name in labels and mesh.n_points:
+                landmark_lines.append(labels[name])
+                landmark_tops.append(np.asarray(mesh.points, dtype=np.float64))
             focus.append(mesh)
+        if landmark_lines:  # one box of lines above the outermost landmark: nested surfaces' labels would overlap
+            tops = np.concatenate(landmark_tops)
+            label_points.append(tops[int(np.argmax(tops @ np.asarray(_LABEL_DIRECTION)))])
+            label_texts.append("\n".join(landmark_lines))
 
         surfaces = content.surfaces
         if surfaces is None and content.native_scene is not None and content.native_scene.get("shapes"):
             surfaces = scene_surfaces(content.native_scene)
-        if surfaces is not None and surfaces.n_cells and not self._embedding:
+        if surfaces is not None and surfaces.n_cells:
             surfaces.cell_data["display_rgb"] = _surface_rgb(surfaces, content.native_scene)
-            p.add_mesh(surfaces, scalars="display_rgb", rgb=True, opacity=0.3, show_scalar_bar=False,
-                       pickable=False, name="surfaces")  # fmt: skip
-            focus.append(surfaces)
+            if self._embedding and "sheet" in surfaces.cell_data:  # both sides of the throat, on the diagram
+                rim = max((float(np.max(np.linalg.norm(np.asarray(m.points)[:, :2], axis=1)))
+                           for m in focus if m.n_points), default=0.0)  # fmt: skip
+                reach = max(rim, 1.25 * float(np.linalg.norm(self.camera["position"])) if self.camera else 0.0)
+                shown_surfaces = self._embed_surfaces(surfaces, reach)
+                sheets = np.asarray(shown_surfaces.cell_data["sheet"])
+                drawn += (["surfaces"] if (sheets > 0).any() else []) + (["other_surfaces"] if (sheets < 0).any() else [])
+                if shown_surfaces.n_cells:
+                    p.add_mesh(shown_surfaces, scalars="display_rgb", rgb=True, opacity=0.8, show_scalar_bar=False,
+                               pickable=False, name="surfaces")  # fmt: skip
+                    focus.append(shown_surfaces)
+            elif not self._embedding:
+                p.add_mesh(surfaces, scalars="display_rgb", rgb=True, opacity=0.3, show_scalar_bar=False,
+                           pickable=False, name="surfaces")  # fmt: skip
+                drawn.append("surfaces")
+                focus.append(surfaces)
 
         if self.camera is not None:
+            position = np.asarray(self.camera["position"], dtype=np.float64)
             if self._embedding:
-                pos = self._embed(np.asarray([self.camera["position"]], dtype=np.float64), self.camera.get("sheet", 1))
+                pos = self._embed(position[None, :], self.camera.get("sheet", 1))
                 marker = pv.PolyData(pos)
                 p.add_mesh(marker, color=_FRUSTUM_COLOR, point_size=12, render_points_as_spheres=True,
                            pickable=False, name="camera")  # fmt: skip
                 focus.append(marker)
+                label_points.append(pos[0])
             else:
                 frustum = camera_frustum(self.camera)
                 p.add_mesh(frustum, color=_FRUSTUM_COLOR, line_width=2, pickable=False, name="camera")
                 focus.append(frustum)
-            legend.append(("camera", _FRUSTUM_COLOR))
+                label_points.append(position)
+            unit = length_unit(self.metric)
+            distance = float(np.linalg.norm(position))
+            label_texts.append(f"camera, {distance:.3g} {unit} from the centre".replace("  ", " "))
+            drawn.append("camera")
 
         shown = None
+        starts = None
         if self.rays is not None and self.rays.n_cells:
             shown = self.rays.copy()
             if self._embedding and "sheet" in shown.point_data:
                 shown.points = ellis_embedding_points(self.metric, shown.points, shown.point_data["sheet"])
-            if color_by not in shown.point_data:
-                raise ValueError(f"color_by={color_by!r} is not a point array of the rays; "
-                                 f"available: {', '.join(sorted(shown.point_data.keys()))}")  # fmt: skip
-            values = np.asarray(shown.point_data[color_by], dtype=np.float64)
-            finite = values[np.isfinite(values)]
-            lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
-            if color_by == "log10_error":
-                lo, hi = max(lo, _LOG10_FLOOR), max(hi, _LOG10_FLOOR)
-            if hi <= lo:
-                lo, hi = lo - 0.5, lo + 0.5
-            self._rays_actor = p.add_mesh(
-                shown, scalars=color_by, cmap="plasma", clim=(lo, hi), line_width=2, lighting=False, name="rays",
-                scalar_bar_args={"title": SCALAR_TITLES.get(color_by, color_by), "vertical": False,
-                                 "position_x": 0.25, "position_y": 0.03, "width": 0.5, "height": 0.06,
-                                 "title_font_size": 12, "label_font_size": 10, "n_labels": 4, "fmt": "%.3g"},
-            )  # fmt: skip
+            array = coloring_array(self.color_by)
+            if array not in shown.point_data:
+                raise ValueError(f"color_by={self.color_by!r} is not a colouring ({', '.join(COLORINGS)}) or a point "
+                                 f"array of the rays; available: {', '.join(sorted(shown.point_data.keys()))}")  # fmt: skip
+            self.shown_rays = shown
+            self._draw_rays()
             starts = None if self.camera is not None else _first_points(shown)
-            if "pixel_x" in shown.cell_data:
-                legend.append(("selected pixel's rays", _SELECTED_COLOR))
-            legend.append(("clicked ray", _PICKED_COLOR))
-        if self.camera is not None:
-            legend.append(("flat-space ray", _FLAT_COLOR))
-        if legend:
-            p.add_legend(labels=[list(item) for item in legend], bcolor=None, size=(0.22, 0.04 * len(legend) + 0.02),
-                         loc="upper right", face=None, name="legend")  # fmt: skip
-        p.add_text(f"{self.title}: click a ray" + ("   f: flat-space ray" if self.camera is not None else ""),
-                   position="upper_left", font_size=9, name="scene_title")  # fmt: skip
+            drawn.append("rays")
+        self.labels_3d = [(text, np.asarray(point, dtype=np.float64)) for text, point in zip(label_texts, label_points)]
+        if label_points:
+            p.add_point_labels(np.asarray(label_points, dtype=np.float64), label_texts, font_size=11, point_size=6,
+                               point_color="white", shape_opacity=0.55, always_visible=True, pickable=False,
+                               name="landmark_labels")  # fmt: skip
+        p.add_text(view_title(self.title, self.metric) + "\n" + _KEYS_HELP, position="upper_left", font_size=9,
+                   name="scene_title")  # fmt: skip
 
         self._focus = _focus_bounds(focus)
         if shown is not None and self.camera is None:  # traced rays: the landmarks and where the rays start
             self._focus = _around(self._focus, starts) if self._focus is not None else _focus_bounds([shown])
+        if self._focus is not None:
+            unit = length_unit(self.metric)
+            titles = [f"{axis} ({unit})" if unit else axis for axis in "xyz"]
+            p.show_bounds(bounds=list(self._focus), xtitle=titles[0], ytitle=titles[1], ztitle=titles[2],
+                          location="outer", ticks="outside", font_size=8, fmt="%.0f", grid=False,
+                          use_3d_text=False)  # fmt: skip
         self._set_3d_camera()
         return shown
+
+    def _draw_rays(self) -> None:
+        """(Re)draw the rays of the shown bounces, coloured by :attr:`color_by`, with their colour bar."""
+        p = self.plotter
+        shown = self.shown_rays
+        array = coloring_array(self.color_by)
+        bounce = np.asarray(shown.cell_data["bounce"]) if "bounce" in shown.cell_data else None
+        self._visible = visible_ray_ids(bounce, shown.n_cells, self.bounces)
+        mesh = shown.extract_cells(self._visible)
+        values = np.asarray(mesh.point_data[array], dtype=np.float64) if mesh.n_points else np.zeros(0)
+        finite = values[np.isfinite(values)]
+        lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+        if array == "log10_error":
+            lo, hi = max(lo, _LOG10_FLOOR), max(hi, _LOG10_FLOOR)
+        if hi <= lo:
+            lo, hi = lo - 0.5, lo + 0.5
+        title = coloring_title(self.color_by, self.metric, fallback=SCALAR_TITLES)
+        p.subplot(0, self._scene_col)  # the colour bar goes into the 3-D panel
+        if self._bar_title is not None and self._bar_title in p.scalar_bars:
+            p.remove_scalar_bar(self._bar_title, render=False)
+        if self._rays_actor is not None:
+            self._scene_renderer.remove_actor(self._rays_actor, reset_camera=False, render=False)
+            self._rays_actor = None
+        if not mesh.n_cells:
+            self._bar_title = None
+            return
+        self._rays_actor = p.add_mesh(
+            mesh, scalars=array, cmap="plasma", clim=(lo, hi), line_width=2, lighting=False, name="rays",
+            reset_camera=False,
+            scalar_bar_args={"title": title, "vertical": False,
+                             "position_x": 0.15, "position_y": 0.03, "width": 0.7, "height": 0.06,
+                             "title_font_size": 11, "label_font_size": 10, "n_labels": 4, "fmt": "%.3g"},
+        )  # fmt: skip
+        self._bar_title = title
+
+    def cycle_coloring(self, color_by: str | None = None) -> str:
+        """Colour the rays by the next colouring of :data:`~warpviz.viewer.annotations.COLORINGS` (key
+        ``c``), or by ``color_by``.
+
+        Returns
+        -------
+        str
+            The colouring now shown.
+        """
+        if self.shown_rays is None:
+            return self.color_by
+        available = list(self.shown_rays.point_data.keys())
+        target = next_coloring(self.color_by, available) if color_by is None else str(color_by)
+        if coloring_array(target) not in available:
+            raise ValueError(f"color_by={target!r} is not a colouring ({', '.join(COLORINGS)}) or a point array "
+                             f"of the rays; available: {', '.join(sorted(available))}")  # fmt: skip
+        self.color_by = target
+        self._draw_rays()
+        self.refresh()
+        return self.color_by
+
+    def show_bounces(self, bounces: int | None = -1) -> int | None:
+        """Draw the recorded segments up to bounce ``bounces`` (None: all); the default ``-1`` shows one
+        bounce more than now, and all of them after the last (key ``n``: bounces on demand).
+
+        Returns
+        -------
+        int or None
+            The largest bounce drawn now (None: all).
+        """
+        if self.shown_rays is None:
+            return self.bounces
+        deepest = (int(np.max(self.shown_rays.cell_data["bounce"])) if "bounce" in self.shown_rays.cell_data
+                   and self.shown_rays.n_cells else 0)  # fmt: skip
+        if bounces == -1:
+            if self.bounces is None:
+                bounces = 0
+            else:
+                bounces = self.bounces + 1 if self.bounces < deepest else None
+        elif bounces is not None and int(bounces) < 0:
+            raise ValueError(f"bounces must be >= 0 or None, got {bounces}")
+        self.bounces = None if bounces is None else int(bounces)
+        self._draw_rays()
+        self.refresh()
+        return self.bounces
 
     def _set_3d_camera(self) -> None:
         r = self._scene_renderer
@@ -292,6 +473,84 @@ class TeachingView:
         sheets = np.broadcast_to(np.asarray(sheet), (points.shape[0],))
         return ellis_embedding_points(self.metric, points, sheets)
 
+    # ---------------------------------------------------------------- progressive image
+
+    def set_image(self, image: np.ndarray, *, samples: int | None = None) -> None:
+        """Show a new picture of the same size in the image panel (a refined preview).
+
+        Parameters
+        ----------
+        image : numpy.ndarray
+            (H, W, 3) uint8 sRGB, the size of the current image.
+        samples : int, optional, keyword-only
+            Its samples per pixel, for the status line.
+        """
+        image = np.asarray(image)
+        if self.image is None or image.shape != self.image.shape or image.dtype != np.uint8:
+            want = None if self.image is None else self.image.shape
+            raise ValueError(f"set_image needs a {want} uint8 image, got {image.shape} {image.dtype}")
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        self.image = image
+        colors = self._image_actor.GetMapper().GetInput().GetCellData().GetArray("rgb")
+        vtk_to_numpy(colors)[:] = image[::-1].reshape(-1, 3)  # in place: the mapper keeps its array
+        colors.Modified()
+        if samples is not None:
+            self.image_samples = int(samples)
+        self.refresh()
+
+    def start_refining(self, *, max_spp: int = DEFAULT_MAX_SPP, refresh_ms: int = DEFAULT_REFRESH_MS,
+                       threads: int | None = None) -> BackgroundRefiner | None:  # fmt: skip
+        """Refine the image while the window is open: passes of the preview with more samples are
+        rendered on a background thread (:class:`~warpviz.viewer.progressive.BackgroundRefiner`) and
+        swapped in by a VTK timer every ``refresh_ms``.
+
+        Parameters
+        ----------
+        max_spp : int, keyword-only
+            Samples per pixel at which refining stops.
+        refresh_ms : int, keyword-only
+            How often the window takes the newest image.
+        threads : int, optional, keyword-only
+            Render threads (default: the renderer's).
+
+        Returns
+        -------
+        BackgroundRefiner or None
+            The worker, or None when the view has no scene to refine (a render or rays given, not a
+            scene) or already refines.
+        """
+        if self.refiner is not None or self.source is None or self.preview is None or self.image is None:
+            return None
+        preview = ProgressivePreview(self.source, width=self.preview["width"], height=self.preview["height"],
+                                     spp=self.preview["spp"], seed=self.preview.get("seed") or 0,
+                                     max_spp=max(int(max_spp), self.preview["spp"]), first=self.preview.get("rgb"),
+                                     threads=threads)  # fmt: skip
+        self.refiner = BackgroundRefiner(preview).start()
+        iren = self.plotter.iren
+        if iren is not None:
+            iren.add_observer("TimerEvent", _weak(self._on_timer))
+            self._timer_id = iren.create_timer(int(refresh_ms), repeating=True)
+        return self.refiner
+
+    def _on_timer(self, *_) -> bool:
+        """Swap in the refiner's newest image, if there is one; returns whether the image changed."""
+        latest = self.refiner.take() if self.refiner is not None else None
+        if latest is None:
+            return False
+        samples, image = latest
+        self.set_image(image, samples=samples)
+        return True
+
+    def stop_refining(self) -> None:
+        """Stop the background passes (the image keeps its last refinement)."""
+        if self.refiner is not None:
+            self.refiner.stop()
+            timer = getattr(self, "_timer_id", None)
+            if timer is not None and self.plotter.iren is not None:
+                self.plotter.iren.interactor.DestroyTimer(timer)
+                self._timer_id = None
+
     # ---------------------------------------------------------------- selection
 
     def select_pixels(self, pixels) -> None:
@@ -329,11 +588,14 @@ class TeachingView:
         return pixel
 
     def selected_rays(self) -> np.ndarray:
-        """Indices of the rays highlighted now, shape (K,) int64 (the selected pixels' rays and the
-        picked ray)."""
+        """Indices of the rays highlighted now, shape (K,) int64 (the selected pixels' drawn segments, see
+        :meth:`show_bounces`, and the picked ray)."""
         if self.rays is None:
             return np.zeros(0, dtype=np.int64)
+        visible = getattr(self, "_visible", None)
         ids = [rays_for_pixel(self.rays, x, y) for x, y in self.selected]
+        if visible is not None:
+            ids = [i[np.isin(i, visible)] for i in ids]
         if self.picked_ray is not None:
             ids.append(np.array([self.picked_ray], dtype=np.int64))
         return np.unique(np.concatenate(ids)) if ids else np.zeros(0, dtype=np.int64)
@@ -355,13 +617,19 @@ class TeachingView:
         self.refresh()
         return self.flat_visible
 
+    def flat_pixels(self) -> list[tuple[int, int]]:
+        """The pixels whose flat-space rays are drawn: the selected ones, or without a selection the
+        pixels the view chose (:attr:`pixel_labels`)."""
+        return list(self.selected) if self.selected else list(self.pixel_labels)
+
     def flat_rays(self) -> np.ndarray:
-        """The flat-space camera rays of the selected pixels as drawn: (K, 2, 3) float64 segments in the
+        """The flat-space camera rays of :meth:`flat_pixels` as drawn: (K, 2, 3) float64 segments in the
         user frame (empty without a camera)."""
-        if self.camera is None or not self.selected:
+        pixels = self.flat_pixels()
+        if self.camera is None or not pixels:
             return np.zeros((0, 2, 3))
         length = self._flat_length()
-        return np.stack([flat_camera_ray(self.camera, x, y, length=length) for x, y in self.selected])
+        return np.stack([flat_camera_ray(self.camera, x, y, length=length) for x, y in pixels])
 
     def _flat_length(self) -> float:
         """Long enough to cross everything in view: the distance from the camera to the far corner of
@@ -411,10 +679,31 @@ class TeachingView:
                 flat = flat.merge(pv.lines_from_points(piece)) if flat.n_points else pv.lines_from_points(piece)
         self._replace(self._scene_renderer, "flat_rays", flat, color=_FLAT_COLOR, line_width=4, lighting=False,
                       pickable=False)  # fmt: skip
+        self._update_legend()
         box = getattr(self, "_flat_box", None)
         if box is not None and box.GetRepresentation().GetState() != int(self.flat_visible):
             box.GetRepresentation().SetState(int(self.flat_visible))
         p.render()  # a no-op until the window is shown
+
+    def drawn_items(self) -> list[str]:
+        """Legend keys (:data:`~warpviz.viewer.annotations.LEGEND_STYLE`) of what the 3-D panel draws now,
+        in drawing order."""
+        items = list(self._drawn)
+        if self._rays_actor is None and "rays" in items:
+            items.remove("rays")
+        return items + [key for key in ("highlight", "picked", "flat_rays") if key in self._named_actors]
+
+    def _update_legend(self) -> None:
+        entries = legend_entries(self.drawn_items(), self.metric)
+        if entries == self.legend:
+            return
+        self.legend = entries
+        renderer = self._scene_renderer
+        if renderer.legend is not None:
+            renderer.remove_legend(render=False)
+        if entries:
+            renderer.add_legend(labels=[list(item) for item in entries], bcolor=None, face=None, loc="upper right",
+                                size=(0.3, 0.045 * len(entries) + 0.02))  # fmt: skip
 
     def _replace(self, renderer, name: str, mesh, **style) -> None:
         """Put ``mesh`` into ``renderer`` under ``name``, replacing what was there (None removes it)."""
@@ -443,7 +732,10 @@ class TeachingView:
                 parts.append(f"pixel ({x}, {y}): no recorded paths")
             if len(self.selected) > 1:
                 parts.append(f"+{len(self.selected) - 1} more pixels")
-        return "; ".join(parts) if parts else "nothing selected"
+        text = "; ".join(parts) if parts else "nothing selected"
+        if self.image_samples is not None:
+            text += f"; image: {self.image_samples} samples per pixel"
+        return text
 
     # ---------------------------------------------------------------- clicks and keys
 
@@ -474,6 +766,8 @@ class TeachingView:
             if not picker.Pick(float(x), float(y), 0.0, renderer) or picker.GetCellId() < 0:
                 return None
             cell = int(picker.GetCellId())
+            if kind == "ray":  # a cell of the drawn segments: back to the ray's index
+                cell = int(self._visible[cell])
             if kind == "pixel":
                 height, width = self.image.shape[:2]
                 pixel = image_cell_to_pixel(cell, width=width, height=height)
@@ -491,11 +785,13 @@ class TeachingView:
         iren.add_observer("LeftButtonReleaseEvent", _weak(self._on_release))
         iren.add_observer("RightButtonPressEvent", _weak(self._on_right))
         self.plotter.add_key_event("f", _weak(self.toggle_flat, takes_args=False))
+        self.plotter.add_key_event("c", _weak(self.cycle_coloring, takes_args=False))
+        self.plotter.add_key_event("n", _weak(self.show_bounces, takes_args=False))
         style = iren.style
         if hasattr(style, "add_observer"):  # keep VTK's own "f" (fly to the point under the mouse) out of it
             style.add_observer("CharEvent", _weak(self._on_char))
         if self.camera is not None:  # a tick box for the flat rays, bottom left of the 3-D panel
-            self.plotter.subplot(0, 1 if self._image_renderer is not None else 0)
+            self.plotter.subplot(0, self._scene_col)
             x0 = self._scene_renderer.GetViewport()[0] * self.plotter.window_size[0]
             self._flat_box = self.plotter.add_checkbox_button_widget(
                 _weak(self.toggle_flat), value=self.flat_visible, size=20, position=(x0 + 8, 8), color_on=_FLAT_COLOR)

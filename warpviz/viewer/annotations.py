@@ -1,0 +1,272 @@
+"""What the teaching view writes beside what it draws: colourings and their colour-bar titles, which
+recorded segments are shown, the title, the landmark labels and the legend.
+
+Pure functions of a metric and of names, so the words of the view are tested without rendering. The
+window (:mod:`~warpviz.viewer.window`) draws; this module says what it is called and in which colour.
+
+Examples
+--------
+>>> import warpviz as wv
+>>> from warpviz.viewer.annotations import landmark_labels, legend_entries, view_title
+>>> view_title("fig10d", wv.Kerr(mass=1.0, spin=0.9))
+'fig10d: Kerr black hole, mass M = 1, spin a/M = 0.9'
+>>> landmark_labels(wv.Schwarzschild(mass=1.0))
+{'horizon': 'horizon r = 2 M', 'photon_sphere': 'photon sphere r = 3 M'}
+>>> [label for label, _ in legend_entries(["horizon", "camera", "rays"], wv.Schwarzschild(mass=1.0))]
+['horizon r = 2 M', 'camera', 'recorded light paths']
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from warpviz.spacetime import Metric
+
+__all__ = [
+    "COLORINGS",
+    "DEFAULT_COLORING",
+    "GOOD_DRIFT",
+    "LEGEND_STYLE",
+    "coloring_array",
+    "coloring_title",
+    "default_bounces",
+    "landmark_labels",
+    "legend_entries",
+    "length_unit",
+    "next_coloring",
+    "view_title",
+    "visible_ray_ids",
+]
+
+#: The colourings one key (``c``) cycles through: name -> point array of the recorded rays.
+COLORINGS = {"drift": "log10_error", "r": "r", "redshift": "redshift", "affine": "affine_param"}
+
+#: The colouring a view starts with.
+DEFAULT_COLORING = "drift"
+
+#: A ray whose largest relative drift of a conserved quantity stays below this is trustworthy. At the
+#: renderer's default tolerance (1e-7 per step) the median camera ray of fig04, fig07, fig10d and fig12
+#: drifts by 1e-7 to 3e-7 (measured over 192 pixels each); a ray is marked ``invariant_violation`` when
+#: its term-scaled drift passes :func:`warpviz.default_max_drift` (1e-4 there).
+GOOD_DRIFT = 1e-5
+
+#: Display name and colour of every item the 3-D panel may draw, by key (the legend lists the drawn
+#: ones, in drawing order). Landmarks take their label from :func:`landmark_labels`.
+LEGEND_STYLE = {
+    "horizon": ("horizon", "black"),
+    "ergosphere": ("ergosphere", "orange"),
+    "photon_sphere": ("photon sphere", "deepskyblue"),
+    "throat": ("throat", "mediumpurple"),
+    "our_sheet": ("our sheet", "lightsteelblue"),
+    "other_sheet": ("other sheet", "lightsalmon"),
+    "surfaces": ("scene objects", "tan"),
+    "other_surfaces": ("objects on the other side", "sandybrown"),
+    "camera": ("camera", "darkorange"),
+    "rays": ("recorded light paths", "purple"),
+    "highlight": ("selected pixel's paths", "magenta"),
+    "picked": ("clicked ray", "yellow"),
+    "flat_rays": ("flat-space ray (no gravity)", "lime"),
+}
+
+_FEATURE_NAMES = {"horizon": "horizon", "ergosphere": "ergosphere", "photon_sphere": "photon sphere",
+                  "throat": "throat"}  # fmt: skip
+
+
+def _num(value: float) -> str:
+    """A length or parameter for a label: 4 significant digits, no trailing zeros."""
+    return f"{value:.4g}"
+
+
+def length_unit(metric: Metric | None) -> str:
+    """The unit lengths are shown in: ``"M"`` for a spacetime with a mass, else ``""`` (e.g. an Ellis
+    wormhole, whose lengths are in the units of its throat parameter)."""
+    return "M" if metric is not None and "mass" in metric.landmarks else ""
+
+
+def _length(value: float, metric: Metric | None) -> str:
+    unit = length_unit(metric)
+    return f"{_num(value)} {unit}" if unit else _num(value)
+
+
+def view_title(title: str, metric: Metric | None) -> str:
+    """The 3-D panel's title: the view's name, the spacetime and its parameters.
+
+    Parameters
+    ----------
+    title : str
+        The view's short name (a scene's stem, a file's stem).
+    metric : Metric or None
+
+    Returns
+    -------
+    str
+        e.g. ``"fig07: Schwarzschild black hole, mass M = 1"``.
+    """
+    if metric is None:
+        return title
+    marks = metric.landmarks
+    name = type(metric).__name__
+    if "throat" in marks:
+        what = f"Ellis wormhole, throat b0 = {_length(marks['throat'], metric)}"
+    elif metric.is_flat:
+        what = f"{name} (flat space)"
+    else:
+        parts = []
+        for key, value in metric.params.items():
+            if key == "mass":
+                parts.append(f"mass M = {_num(value)}")
+            elif key == "spin":
+                parts.append(f"spin a/M = {_num(value)}")
+            else:
+                parts.append(f"{key} = {_num(value)}")
+        kind = "black hole" if "horizon" in marks else "spacetime"
+        what = f"{name} {kind}" + (", " + ", ".join(parts) if parts else "")
+    return f"{title}: {what}" if title and title != metric.name else what
+
+
+def landmark_labels(metric: Metric | None) -> dict[str, str]:
+    """The label of each landmark surface the metric has, by its block name in
+    :func:`warpviz.metric_features` (``throat`` for an Ellis wormhole, whose embedding is drawn).
+
+    Parameters
+    ----------
+    metric : Metric or None
+
+    Returns
+    -------
+    dict[str, str]
+        e.g. ``{"horizon": "horizon r = 2 M", "photon_sphere": "photon sphere r = 3 M"}``; radii are the
+        metric's radial coordinate (areal, or Boyer–Lindquist), the ergosphere's on the equator.
+    """
+    if metric is None:
+        return {}
+    m = metric.landmarks
+    out: dict[str, str] = {}
+    if "horizon" in m:
+        out["horizon"] = f"horizon r = {_length(m['horizon'], metric)}"
+    if "ergosphere" in m:
+        out["ergosphere"] = f"ergosphere r = {_length(m['ergosphere'], metric)} (equator)"
+    if "photon_prograde" in m and "photon_retrograde" in m:
+        lo, hi = sorted((m["photon_prograde"], m["photon_retrograde"]))
+        out["photon_sphere"] = f"photon region r = {_num(lo)}-{_length(hi, metric)}"
+    elif "photon_sphere" in m:
+        out["photon_sphere"] = f"photon sphere r = {_length(m['photon_sphere'], metric)}"
+    if "throat" in m:
+        out["throat"] = f"throat b0 = {_length(m['throat'], metric)}"
+    return out
+
+
+def legend_entries(drawn: Sequence[str], metric: Metric | None) -> list[tuple[str, str]]:
+    """The legend of the 3-D panel: one (label, colour) per drawn item, in drawing order.
+
+    Parameters
+    ----------
+    drawn : sequence of str
+        Keys of :data:`LEGEND_STYLE` of the items drawn now (repeats listed once).
+    metric : Metric or None
+        For the landmarks' labels (their radii).
+
+    Returns
+    -------
+    list of (str, str)
+
+    Raises
+    ------
+    KeyError
+        A key that is not in :data:`LEGEND_STYLE`.
+    """
+    labels = landmark_labels(metric)
+    out, seen = [], set()
+    for key in drawn:
+        if key in seen:
+            continue
+        if key not in LEGEND_STYLE:
+            raise KeyError(f"no legend entry for {key!r}; known: {', '.join(LEGEND_STYLE)}")
+        seen.add(key)
+        label, color = LEGEND_STYLE[key]
+        out.append((labels.get(key, label), color))
+    return out
+
+
+def coloring_array(color_by: str) -> str:
+    """The point array a colouring shows: a name of :data:`COLORINGS` or a point array's own name."""
+    return COLORINGS.get(color_by, color_by)
+
+
+def coloring_title(color_by: str, metric: Metric | None, *, fallback: dict[str, str] | None = None) -> str:
+    """The colour bar's title: the quantity shown and, for the drift, its good range.
+
+    Parameters
+    ----------
+    color_by : str
+        A colouring of :data:`COLORINGS` or a point array's name.
+    metric : Metric or None
+        Names the conserved quantities (its invariants: H, E, Lz, Q for Kerr).
+    fallback : dict[str, str], optional, keyword-only
+        Titles of other point arrays (e.g. :data:`warpviz.viewer.window.SCALAR_TITLES`).
+
+    Returns
+    -------
+    str
+    """
+    array = coloring_array(color_by)
+    if array == "log10_error":
+        names = metric.invariant_names if metric is not None else ["H", "E", "Lz", "Q"]
+        quantities = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else "".join(names)
+        return (f"log10 largest relative drift of {quantities} along the ray "
+                f"(good: below {round(math.log10(GOOD_DRIFT))}, i.e. {GOOD_DRIFT:.0e})")  # fmt: skip
+    if array == "r":
+        return f"radius r ({length_unit(metric) or 'length units'})"
+    if array == "redshift":
+        return "redshift: frequency / frequency at the start (1 = unshifted)"
+    if array == "affine_param":
+        return "affine parameter along the ray"
+    return (fallback or {}).get(array, array)
+
+
+def next_coloring(color_by: str, available: Sequence[str] | None = None) -> str:
+    """The colouring after ``color_by`` in :data:`COLORINGS` (key ``c``), skipping those whose array is
+    not in ``available``; a point array outside :data:`COLORINGS` goes to the first."""
+    names = [n for n in COLORINGS if available is None or COLORINGS[n] in available] or list(COLORINGS)
+    key = next((n for n in COLORINGS if n == color_by or COLORINGS[n] == color_by), None)
+    if key not in names:
+        return names[0]
+    return names[(names.index(key) + 1) % len(names)]
+
+
+def default_bounces(chosen_pixels: bool) -> int | None:
+    """How many bounces of each recorded path the view draws when not told: only the camera segment
+    (0) for the pixels the view chose itself, every segment (None) for pixels the user recorded."""
+    return 0 if chosen_pixels else None
+
+
+def visible_ray_ids(bounce: np.ndarray | None, n_rays: int, max_bounce: int | None) -> np.ndarray:
+    """The recorded segments drawn: those of bounce at most ``max_bounce``.
+
+    Parameters
+    ----------
+    bounce : numpy.ndarray or None
+        (N,) integer bounce of each segment (0 = the camera segment), or None (traced rays: all shown).
+    n_rays : int
+        N.
+    max_bounce : int or None
+        Largest bounce drawn; None draws every segment.
+
+    Returns
+    -------
+    numpy.ndarray
+        (K,) int64 segment indices, increasing.
+
+    Examples
+    --------
+    >>> visible_ray_ids(np.array([0, 1, 2, 0, 1]), 5, 1).tolist()
+    [0, 1, 3, 4]
+    """
+    if bounce is None or max_bounce is None:
+        return np.arange(int(n_rays), dtype=np.int64)
+    if int(max_bounce) < 0:
+        raise ValueError(f"bounces must be >= 0, got {max_bounce}")
+    return np.flatnonzero(np.asarray(bounce) <= int(max_bounce)).astype(np.int64)
