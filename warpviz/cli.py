@@ -46,7 +46,7 @@ from rich.text import Text
 
 import warpviz
 from warpviz.io import written_by_warpviz
-from warpviz.limits import MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP
+from warpviz.limits import EXPOSURE_RANGE, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES, exposure_stops
 from warpviz.render.render import OPTIONAL_AOVS
 from warpviz.scene import Scene, SceneError, load_scene
 from warpviz.scene.catalog import looks_like_path, scene_description, scene_dirs, shipped_scenes
@@ -254,6 +254,21 @@ def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_
         _fail(str(exc), EXIT_BAD_INPUT)
 
 
+def _look(scene: Scene, *, exposure: Optional[float], tonemap: Optional[str]) -> dict:
+    """The PNG's ``exposure`` and ``tonemap`` for ``Image.save``: the flags, else the scene's ``[outputs]``,
+    else None (the defaults of :mod:`warpviz.render.tonemap`); a bad flag is exit code 2."""
+    exposure = exposure if exposure is not None else scene.outputs.get("exposure")
+    tonemap = tonemap if tonemap is not None else scene.outputs.get("tonemap")
+    if exposure is not None:
+        try:
+            exposure = exposure_stops("--exposure", exposure)
+        except ValueError as exc:
+            _fail(str(exc), EXIT_BAD_INPUT)
+    if tonemap is not None and tonemap not in TONEMAP_NAMES:
+        _fail(f"--tonemap must be one of {', '.join(TONEMAP_NAMES)}, got {tonemap!r}", EXIT_BAD_INPUT)
+    return {"exposure": exposure, "tonemap": tonemap}
+
+
 def _aovs_for(target: Optional[Path], scene: Scene) -> list[str]:
     """The optional AOVs worth computing for an image written to ``target``: none for a PNG (it holds
     radiance only), the scene's ``[outputs] aovs`` (default: all) for an EXR."""
@@ -347,6 +362,17 @@ def render(
         help="Exit with code 3 when more than this fraction of the samples failed (a geodesic ran out of "
         "steps, broke a conservation law or became nan); the image is still written.",
     ),  # fmt: skip
+    exposure: Optional[float] = typer.Option(
+        None, "--exposure",
+        help=f"PNG only: exposure in stops, the radiance times 2**S before tonemapping, in "
+        f"[{EXPOSURE_RANGE[0]:g}, {EXPOSURE_RANGE[1]:g}] (default: the scene's [outputs] exposure, else 0).",
+    ),  # fmt: skip
+    tonemap: Optional[str] = typer.Option(
+        None, "--tonemap",
+        help="PNG only: 'filmic' (default: hue-preserving shoulder, saturated lights keep their colour), 'clip' "
+        "(each channel clamped to 1) or 'reinhard' (x / (1 + x) per channel). Default: the scene's [outputs] "
+        "tonemap, else filmic.",
+    ),  # fmt: skip
     force: bool = typer.Option(False, "--force", help="Replace an existing output file that warpviz did not write."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:
@@ -357,6 +383,7 @@ def render(
     """
     with _guard(), _stoppable():
         sc = load_scene(scene)
+        look = _look(sc, exposure=exposure, tonemap=tonemap)
         chosen = output is None and sc.outputs.get("file") is not None
         target = output or Path(sc.outputs.get("file") or f"{sc.path.stem if sc.path else 'scene'}.png")
         target = _output_path(target, IMAGE_SUFFIXES, force=force, scene=sc if chosen else None)
@@ -369,7 +396,7 @@ def render(
                                 aovs=_aovs_for(target, sc))  # fmt: skip
         if target.suffix.lower() == ".exr":
             _keep_aovs(img, sc.outputs.get("aovs"))
-        img.save(target)
+        img.save(target, **look)
         seconds = time.perf_counter() - t0
         h, w = np.shape(img.rgb)[:2]
         if not getattr(img, "completed", True):
@@ -397,12 +424,15 @@ def trace(
     seed: Optional[int] = typer.Option(None, "--seed", min=0, max=MAX_SEED, help="Random seed (default: the scene's)."),
     flat: bool = typer.Option(False, "--flat", help="Flat space instead of the scene's metric."),
     paper: bool = typer.Option(False, "--paper", help="Use the scene's [render.paper] settings."),
+    exposure: Optional[float] = typer.Option(None, "--exposure", help="PNG --image only: exposure in stops (see render)."),
+    tonemap: Optional[str] = typer.Option(None, "--tonemap", help="PNG --image only: filmic, clip or reinhard (see render)."),
     force: bool = typer.Option(False, "--force", help="Replace existing output files that warpviz did not write."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:
     """Render a scene and save the sampled light paths of chosen pixels as a .vtp file."""
     with _guard(), _stoppable():
         sc = load_scene(scene)
+        look = _look(sc, exposure=exposure, tonemap=tonemap)
         record = _parse_pixels(pixels)
         width, height = size if size is not None else sc.size(paper=paper)
         outside = [(int(x), int(y)) for x, y in record if not (x < width and y < height)]
@@ -425,7 +455,7 @@ def trace(
         if picture is not None:
             if picture.suffix.lower() == ".exr":
                 _keep_aovs(img, sc.outputs.get("aovs"))
-            img.save(picture)
+            img.save(picture, **look)
         err.print(f"wrote {target} ({len(record)} pixels)" + (f" and {picture}" if picture else ""))
         if not getattr(img, "completed", True):
             raise typer.Exit(_stop_code())

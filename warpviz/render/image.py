@@ -11,7 +11,7 @@ Examples
 ...             metadata={"metric": "minkowski"})
 >>> img.shape
 (2, 3)
->>> tonemap(np.array([[[0.0, 0.5, 2.0]]], dtype=np.float32)).tolist()
+>>> tonemap(np.array([[[0.0, 0.5, 2.0]]], dtype=np.float32), method="clip").tolist()
 [[[0, 188, 255]]]
 """
 
@@ -25,6 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from warpviz.io import SOFTWARE_KEY, atomic_write, software, write_png
+from warpviz.render.tonemap import DEFAULT_EXPOSURE, DEFAULT_TONEMAP, tonemap, tonemap_name
+from warpviz.limits import exposure_stops
 from warpviz.tracing import RayBundle
 
 __all__ = ["Image", "tonemap", "AOV_DESCRIPTIONS"]
@@ -43,34 +45,6 @@ AOV_DESCRIPTIONS = {
 
 
 _TONEMAP_PIXELS = 1 << 16  # pixels tonemapped at a time (~6 MB of float64 temporaries)
-
-
-def tonemap(rgb: np.ndarray, *, exposure: float = 1.0, method: str = "clip") -> np.ndarray:
-    """Linear RGB to 8-bit sRGB.
-
-    Parameters
-    ----------
-    rgb : numpy.ndarray
-        (H, W, 3) float linear radiance.
-    exposure : float, keyword-only
-        Scale applied before tonemapping.
-    method : {"clip", "reinhard"}, keyword-only
-        ``"clip"`` clamps to [0, 1]; ``"reinhard"`` maps x to x / (1 + x), keeping highlights.
-
-    Returns
-    -------
-    numpy.ndarray
-        (H, W, 3) uint8, sRGB-encoded.
-    """
-    x = np.nan_to_num(np.asarray(rgb, dtype=np.float64) * exposure, nan=0.0, posinf=1.0, neginf=0.0)
-    x = np.maximum(x, 0.0)
-    if method == "reinhard":
-        x = x / (1.0 + x)
-    elif method != "clip":
-        raise ValueError(f"unknown tonemap method {method!r} (known: clip, reinhard)")
-    x = np.minimum(x, 1.0)
-    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
-    return np.round(srgb * 255.0).astype(np.uint8)
 
 
 @dataclass(frozen=True, eq=False)
@@ -118,9 +92,22 @@ class Image:
         darker there by this fraction on average. Per pixel: ``aovs["errors"]``."""
         return float(self.stats.get("error_fraction", 0.0))
 
-    def to_uint8(self, *, exposure: float = 1.0, method: str = "clip") -> np.ndarray:
-        """The tonemapped (H, W, 3) uint8 sRGB picture (see :func:`tonemap`), made in bands of rows so a
-        large image needs no float64 copy of itself."""
+    def to_uint8(self, *, exposure: float = DEFAULT_EXPOSURE, method: str = DEFAULT_TONEMAP) -> np.ndarray:
+        """The tonemapped picture, made in bands of rows so a large image needs no float64 copy of itself.
+
+        Parameters
+        ----------
+        exposure : float, keyword-only
+            Stops (radiance times ``2 ** exposure``), in :data:`warpviz.limits.EXPOSURE_RANGE`.
+        method : {"filmic", "clip", "reinhard"}, keyword-only
+            The curve (:mod:`warpviz.render.tonemap`).
+
+        Returns
+        -------
+        numpy.ndarray
+            (H, W, 3) uint8 sRGB.
+        """
+        exposure, method = exposure_stops("exposure", exposure), tonemap_name(method)
         rgb = np.asarray(self.rgb)
         out = np.empty(rgb.shape[:2] + (3,), dtype=np.uint8)
         rows = max(1, _TONEMAP_PIXELS // max(1, rgb.shape[1]))
@@ -128,7 +115,7 @@ class Image:
             out[y : y + rows] = tonemap(rgb[y : y + rows], exposure=exposure, method=method)
         return out
 
-    def save(self, path: str | os.PathLike, *, exposure: float = 1.0, tonemap_method: str = "clip") -> Path:
+    def save(self, path: str | os.PathLike, *, exposure: float | None = None, tonemap: str | None = None) -> Path:
         """Write the image, atomically.
 
         Parameters
@@ -136,9 +123,12 @@ class Image:
         path : str or os.PathLike
             ``.exr``: float32 channels R, G, B plus every AOV (``normal`` as ``normal.X/Y/Z``), the
             metadata as the ``warpviz`` header string and ``errorFraction`` as a float attribute.
-            ``.png``: tonemapped 8-bit sRGB, the metadata as a ``warpviz`` text chunk.
-        exposure, tonemap_method : keyword-only
-            PNG only; see :func:`tonemap`.
+            ``.png``: tonemapped 8-bit sRGB, the metadata (with the ``tonemap`` and ``exposure`` used) as
+            a ``warpviz`` text chunk.
+        exposure : float, optional, keyword-only
+            PNG only: stops (default :data:`warpviz.render.tonemap.DEFAULT_EXPOSURE`, 0).
+        tonemap : {"filmic", "clip", "reinhard"}, optional, keyword-only
+            PNG only: the curve (default :data:`warpviz.render.tonemap.DEFAULT_TONEMAP`).
 
         Returns
         -------
@@ -150,8 +140,11 @@ class Image:
         if suffix == ".exr":
             return atomic_write(path, self._write_exr)
         if suffix == ".png":
-            pixels = self.to_uint8(exposure=exposure, method=tonemap_method)
-            return write_png(path, pixels, text={"warpviz": json.dumps(self.metadata, sort_keys=True, default=str)})
+            exposure = DEFAULT_EXPOSURE if exposure is None else exposure_stops("exposure", exposure)
+            method = DEFAULT_TONEMAP if tonemap is None else tonemap_name(tonemap)
+            pixels = self.to_uint8(exposure=exposure, method=method)
+            meta = {**self.metadata, "tonemap": method, "exposure": exposure}
+            return write_png(path, pixels, text={"warpviz": json.dumps(meta, sort_keys=True, default=str)})
         raise ValueError(f"cannot save {str(path)!r}: use a .exr or .png file name")
 
     def _write_exr(self, tmp: Path) -> None:
