@@ -47,6 +47,8 @@ from rich.text import Text
 import warpviz
 from warpviz.io import written_by_warpviz
 from warpviz.limits import EXPOSURE_RANGE, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES, exposure_stops
+from warpviz.render.denoise import DenoiserMissing
+from warpviz.render.false_colour import FALSE_COLOUR_STYLES
 from warpviz.render.render import OPTIONAL_AOVS
 from warpviz.scene import Scene, SceneError, load_scene
 from warpviz.scene.catalog import looks_like_path, scene_description, scene_dirs, shipped_scenes
@@ -238,16 +240,19 @@ def _progress_bar(label: str, *, enabled: bool):
 
 
 def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_sampling, progress, record_pixels=None,
-                  light_connection=None, crop=None, aovs=None):
+                  light_connection=None, crop=None, aovs=None, denoise=False):
     """Call warpviz.render with the command line's options; bad options (and images too large for the
-    memory) become exit code 2."""
+    memory) become exit code 2, a denoiser that is not installed exit code 1 with the extra to install."""
     render = _renderer()
     width, height = size if size is not None else (None, None)
+    extra = {"denoise": True} if denoise else {}  # only when asked: a stand-in renderer need not know it
     try:
         return render(scene, spp=spp, width=width, height=height, seed=seed, threads=threads, flat=flat,
                       light_sampling=light_sampling, paper=paper, progress=progress,
                       record_pixels=record_pixels, light_connection=light_connection, crop=crop,
-                      aovs=aovs)  # fmt: skip
+                      aovs=aovs, **extra)  # fmt: skip
+    except DenoiserMissing as exc:
+        _fail(f"--denoise: {exc}", EXIT_ERROR)
     except (ValueError, TypeError) as exc:
         if isinstance(exc, SceneError):
             raise
@@ -373,6 +378,17 @@ def render(
         "(each channel clamped to 1) or 'reinhard' (x / (1 + x) per channel). Default: the scene's [outputs] "
         "tonemap, else filmic.",
     ),  # fmt: skip
+    denoise: bool = typer.Option(
+        False, "--denoise",
+        help="Denoise with Intel Open Image Denoise (pip install 'warpviz[denoise]'), fed with the albedo and "
+        "normal at each path's first non-specular hit. A PNG shows the denoised image; an EXR keeps the "
+        "unbiased radiance as R, G, B and adds the denoised one as the layer denoised.R/G/B.",
+    ),  # fmt: skip
+    false_colour: Optional[str] = typer.Option(
+        None, "--false-colour",
+        help=f"Write a false-colour PNG of this AOV ({', '.join(FALSE_COLOUR_STYLES)}) with a colour bar "
+        "naming the quantity and its range, instead of the tonemapped picture.",
+    ),  # fmt: skip
     force: bool = typer.Option(False, "--force", help="Replace an existing output file that warpviz did not write."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:
@@ -387,16 +403,27 @@ def render(
         chosen = output is None and sc.outputs.get("file") is not None
         target = output or Path(sc.outputs.get("file") or f"{sc.path.stem if sc.path else 'scene'}.png")
         target = _output_path(target, IMAGE_SUFFIXES, force=force, scene=sc if chosen else None)
+        aovs = _aovs_for(target, sc)
+        if false_colour is not None:
+            if false_colour not in FALSE_COLOUR_STYLES:
+                _fail(f"--false-colour must be one of {', '.join(FALSE_COLOUR_STYLES)}, got {false_colour!r}",
+                      EXIT_BAD_INPUT)  # fmt: skip
+            if target.suffix.lower() != ".png":
+                _fail(f"--false-colour writes a PNG picture: give -o NAME.png, not {str(target)!r}", EXIT_BAD_INPUT)
+            aovs = [false_colour] if false_colour in OPTIONAL_AOVS else []
         _renderer()
         t0 = time.perf_counter()
         with _progress_bar(sc.path.stem if sc.path else "scene", enabled=not quiet) as progress:
             img = _render_scene(sc, spp=spp, size=size, seed=seed, threads=threads, flat=flat, paper=paper,
                                 light_sampling=False if no_light_sampling else None, progress=progress,
-                                light_connection=light_connection, crop=crop,
-                                aovs=_aovs_for(target, sc))  # fmt: skip
+                                light_connection=light_connection, crop=crop, aovs=aovs,
+                                denoise=denoise)  # fmt: skip
         if target.suffix.lower() == ".exr":
             _keep_aovs(img, sc.outputs.get("aovs"))
-        img.save(target, **look)
+        if false_colour is not None:
+            img.false_colour(false_colour).save(target, metadata=img.metadata)
+        else:
+            img.save(target, **look)
         seconds = time.perf_counter() - t0
         h, w = np.shape(img.rgb)[:2]
         if not getattr(img, "completed", True):
@@ -650,13 +677,14 @@ BENCH_SUITES = {
     "render": "bench_render.py",
     "skips": "bench_skips.py",
     "light-connection": "bench_light_connection.py",
+    "denoise": "bench_denoise.py",
 }
 
 
 @app.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
 def bench(ctx: typer.Context) -> None:
     """Run a benchmark: `warpviz bench SUITE OPTIONS`, SUITE one of geodesics, work-precision, render, skips,
-    light-connection.
+    light-connection, denoise.
 
     Without a SUITE it runs the far-observer geodesic benchmark (benchmarks/bench_geodesics.py); every
     suite takes its own options after the name, e.g. `warpviz bench --size 32` or

@@ -23,7 +23,11 @@ from warpviz.tracing import STEPPERS
 
 __all__ = ["AOV_NAMES"]
 
-AOV_NAMES = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "errors", "samples")
+#: The AOV names a scene's ``[outputs] aovs`` may list: :data:`warpviz.render.render.OPTIONAL_AOVS` (the
+#: renderer sits above scenes, so they are named here too; tests/test_scene.py checks they agree) and the
+#: two a render always keeps.
+AOV_NAMES = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal", "errors",
+             "samples")
 
 
 def _metric(r: _Reader, tbl: Any) -> Metric:
