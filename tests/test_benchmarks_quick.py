@@ -187,3 +187,18 @@ def test_light_connection_benchmark_quick_mode(tmp_path):
         assert r["cpu_s"] > 0 and r["rel_mse"] > 0 and r["efficiency"] > 0
         if r["room"] == "fig07" and r["max_depth"] == "scene":
             assert r["over_brute"] > 0 and r["over_seed"] > 0 and r["flat_over_this"] > 0
+
+
+@pytest.mark.skipif(importlib.util.find_spec("pyoidn") is None,
+                    reason="pyoidn (Intel Open Image Denoise) is not installed: pip install 'warpviz[denoise]'")
+def test_denoise_benchmark_quick_mode(tmp_path):
+    import bench_denoise
+
+    rows = bench_denoise.main(["--quick", "--out", str(tmp_path)])
+    table = read_csv(tmp_path / "denoise.csv")
+    assert [int(r["spp"]) for r in table] == [1, 4] == [r["spp"] for r in rows]
+    for r in rows:
+        assert r["cpu_s_render"] > 0 and r["cpu_s_denoise"] > 0 and r["noisy_rel_mse"] > 0
+        assert r["noisy_rel_mse_equal_time"] < r["noisy_rel_mse"]
+        assert r["gain_equal_time"] == pytest.approx(r["noisy_rel_mse_equal_time"] / r["denoised_rel_mse"])
+    assert rows[1]["noisy_rel_mse"] < rows[0]["noisy_rel_mse"]  # more samples, less noise
