@@ -662,7 +662,7 @@ def doctor(
         table.add_row("viewer", "available" if _api("view", "viewer") else "not in this build")
         folders = ", ".join(str(d) for d in scene_dirs()) or "nowhere"
         table.add_row("scenes", f"{len(shipped_scenes())} shipped in {folders}")
-        for dist in ("numpy", "trimesh", "pillow", "OpenEXR", "typer", "rich", "pyvista", "vtk"):
+        for dist in ("numpy", "trimesh", "pillow", "OpenEXR", "typer", "rich", "pyvista", "vtk", "matplotlib", "pyoidn"):
             table.add_row(dist, _package_version(dist))
         display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
         table.add_row("display", display or "none (headless)")
