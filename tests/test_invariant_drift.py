@@ -107,6 +107,22 @@ def test_negligible_q_is_reported_term_scaled():
         np.testing.assert_array_equal(rays.invariant_drift[k], rays.invariant_drift_scaled[k])
 
 
+def test_lz_of_a_ray_leaving_the_axis_becomes_term_scaled():
+    """A ray that starts 1.4e-6 M off the axis has Lz ~1e-6 of the size its terms reach as it leaves
+    the axis; the integration error grows with those terms, so from there on the term-scaled drift is
+    reported (the relative one would read ~1e-6 at tol 1e-10; hypothesis found this ray)."""
+    theta, r0 = 6e-8, 23.0
+    origin = r0 * np.array([np.sin(theta), 0.0, np.cos(theta)])
+    rays = wv.trace(wv.Kerr(mass=1.0, spin=0.0), origin, [1.0, 1.0, 0.0], tol=1e-10, escape_radius=200.0,
+                    record=True)
+    lz0 = np.abs(bl_invariants(rays.initial_states)["Lz"][0])
+    assert 0.0 < lz0 < 1e-5
+    np.testing.assert_array_equal(rays.invariant_drift["Lz"], rays.invariant_drift_scaled["Lz"])
+    assert rays.invariant_drift["Lz"][0] < 1e-12
+    pd = rays.ray_point_data(0)
+    assert pd["Lz_drift"][-1] == pd["Lz_drift_scaled"][-1]
+
+
 @pytest.mark.parametrize("metric", [wv.Schwarzschild(), wv.Kerr(spin=0.9)])
 def test_point_drift_columns(metric):
     """Per point: `<X>_drift` follows the per-ray rule and its maximum is the ray's reported drift."""

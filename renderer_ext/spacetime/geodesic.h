@@ -47,9 +47,10 @@ struct TraceOptions {
   int monitor_every = 0;
 };
 
-// A conserved quantity whose value at the start is below this fraction of the size of its terms there
-// (Q of an equatorial ray, Lz of a ray through the axis) is negligible: its relative drift says nothing
-// and the term-scaled one is reported instead.
+// A conserved quantity whose value at the start is below this fraction of the largest size its terms
+// have had along the ray so far (Q of an equatorial ray, Lz of a ray that starts near the axis and
+// leaves it) is negligible: the integration error scales with those terms, so its relative drift says
+// nothing and the term-scaled one is reported from that point on.
 inline constexpr double kNegligibleInvariant = 1e-6;
 
 struct RayResult {
@@ -61,8 +62,9 @@ struct RayResult {
   // Drifts of the conserved quantities X_k, maxima over the monitored points and the end state (see
   // kNegligibleInvariant). drift_scaled: |X - X0| / S, S the largest size along the ray of the terms X is
   // computed from (at least the metric's invariant_scales floor); [0] is |2H| over the size of its
-  // terms. The check against max_drift uses it. drift: the reported drift, |X - X0| / |X0| where X0 is
-  // not negligible against S at the start, drift_scaled otherwise (and always for H, which is 0).
+  // terms. The check against max_drift uses it. drift: the reported drift, at each point |X - X0| / |X0|
+  // while X0 is not negligible against the terms' largest size so far, the term-scaled drift from then
+  // on (and always for H, which is 0).
   double drift[kMaxInvariants] = {0, 0, 0, 0, 0, 0};
   double drift_scaled[kMaxInvariants] = {0, 0, 0, 0, 0, 0};
   double y[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // final chart state (position and covariant momentum)
@@ -425,6 +427,9 @@ class GeodesicRay {
     bool ok = true;
     for (int k = 1; k < K; ++k) {
       scale_[k] = std::max(scale_[k], mag_[k]);
+      // Once X0 is negligible against the terms seen so far (Lz of a ray leaving the axis), the
+      // integration error, which scales with those terms, makes its relative drift meaningless.
+      relative_[k] = relative_[k] && std::fabs(inv0_[k]) >= kNegligibleInvariant * scale_[k];
       const double change = std::fabs(inv_[k] - inv0_[k]);
       drift_[k] = change / scale_[k];
       reported_[k] = relative_[k] ? change / std::fabs(inv0_[k]) : drift_[k];

@@ -82,8 +82,9 @@ class RayBundle:
         For each conserved quantity X (``"H"``, ``"E"``, ``"Lz"``, ``"Q"``, ``"L2"`` as the metric has
         them) the reported drift: the largest over the monitored points and the end state, shape (N,)
         float64, of the **relative** drift |X − X₀| / |X₀| where X₀ is not negligible against its terms
-        (|X₀| ≥ 1e-6 S₀, S₀ below at the start), and of the term-scaled drift of
-        :attr:`invariant_drift_scaled` otherwise (Q of an equatorial ray, Lz of a ray through the axis).
+        (|X₀| ≥ 1e-6 S, S below, as far as the ray has come), and of the term-scaled drift of
+        :attr:`invariant_drift_scaled` from where X₀ is negligible on (Q of an equatorial ray, Lz of a ray
+        that starts near the axis and leaves it).
         ``"H"`` (0 on an exact null geodesic) is always term-scaled: |2H| over the size of its terms.
     invariant_drift_scaled : dict[str, numpy.ndarray]
         The **term-scaled** drift |X − X₀| / S, shape (N,) float64, S the largest size along the ray of
