@@ -198,3 +198,18 @@ def test_mitsuba_cornell_quick(tmp_path):
     assert [r["measure"] for r in rows] == ["speed", "speed", "radiance"]
     assert rows[0]["warpviz_over_mitsuba_min"] > 0 and rows[2]["blocks"] == 16
     assert (tmp_path / "mitsuba_cornell.csv").is_file()
+
+
+@pytest.mark.skipif(importlib.util.find_spec("pyoidn") is None,
+                    reason="pyoidn (Intel Open Image Denoise) is not installed: pip install 'warpviz[denoise]'")
+def test_denoise_benchmark_quick_mode(tmp_path):
+    import bench_denoise
+
+    rows = bench_denoise.main(["--quick", "--out", str(tmp_path)])
+    table = read_csv(tmp_path / "denoise.csv")
+    assert [int(r["spp"]) for r in table] == [1, 4] == [r["spp"] for r in rows]
+    for r in rows:
+        assert r["cpu_s_render"] > 0 and r["cpu_s_denoise"] > 0 and r["noisy_rel_mse"] > 0
+        assert r["noisy_rel_mse_equal_time"] < r["noisy_rel_mse"]
+        assert r["gain_equal_time"] == pytest.approx(r["noisy_rel_mse_equal_time"] / r["denoised_rel_mse"])
+    assert rows[1]["noisy_rel_mse"] < rows[0]["noisy_rel_mse"]  # more samples, less noise

@@ -109,11 +109,13 @@ class FakeImage:
         self.aovs = {"redshift": np.ones((height, width), np.float32), "depth": np.ones((height, width), np.float32)}
         self.completed = completed
         self.saved_aovs = None
+        self.saved_look = None
 
-    def save(self, path):
+    def save(self, path, *, exposure=None, tonemap=None):
         from PIL import Image
 
         self.saved_aovs = sorted(self.aovs)
+        self.saved_look = {"exposure": exposure, "tonemap": tonemap}
         Image.fromarray(np.zeros((*self.rgb.shape[:2], 3), np.uint8)).save(path, format="PNG")
 
 

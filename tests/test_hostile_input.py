@@ -23,6 +23,7 @@ import warpviz as wv
 from warpviz import cli
 from warpviz.limits import MAX_IMAGE_SIDE, MAX_SPP
 from warpviz.render.memory import RenderTooLarge, render_bytes
+from warpviz.render.render import OPTIONAL_AOVS
 from warpviz.scene import SceneError
 
 runner = CliRunner()
@@ -226,7 +227,7 @@ def test_a_render_too_large_for_the_memory_is_refused_with_the_estimate(tmp_path
     # an EXR with every AOV needs more per pixel, and says which AOVs it asked for
     result = invoke("render", scene, "--size", "30000x30000", "-o", tmp_path / "h.exr", "-q",
                     env={"WARPVIZ_MEMORY_LIMIT": "4G"})  # fmt: skip
-    assert_refused(result, 2, "(80 bytes per pixel)")
+    assert_refused(result, 2, "(128 bytes per pixel)")
     assert "fewer AOVs" in result.output
 
 
@@ -283,8 +284,7 @@ print(peak[0] - base)
 
 @pytest.mark.skipif(not Path("/proc/self/smaps_rollup").exists(), reason="needs Linux's /proc/self/smaps_rollup")
 @pytest.mark.parametrize("suffix", [".png", ".exr"])
-@pytest.mark.parametrize("aovs", [(), ("redshift", "n_steps", "max_drift", "status", "depth", "normal")],
-                         ids=["no AOVs", "every AOV"])
+@pytest.mark.parametrize("aovs", [(), OPTIONAL_AOVS], ids=["no AOVs", "every AOV"])
 def test_the_memory_estimate_matches_what_a_render_uses(tmp_path, suffix, aovs):
     """Peak resident memory added by rendering and saving a 3-megapixel image, against render_bytes:
     never more than the estimate (plus 16 MiB of sampling slack), so a render the check lets through
@@ -301,6 +301,14 @@ def test_the_memory_estimate_matches_what_a_render_uses(tmp_path, suffix, aovs):
 def test_unrequested_aovs_cost_no_memory():
     assert render_bytes(100, 100, aovs=()) == 100 * 100 * 44
     assert render_bytes(100, 100, aovs=("normal",)) == 100 * 100 * 56
+
+
+def test_the_memory_estimate_counts_the_denoiser_features():
+    """albedo and albedo_normal are double sums of 3 channels in the film (24 bytes each per pixel): with
+    both, the core's peak is 44 + 48 bytes per pixel; with every AOV 128."""
+    assert render_bytes(100, 100, aovs=("albedo",)) == 100 * 100 * 68
+    assert render_bytes(100, 100, aovs=("albedo", "albedo_normal")) == 100 * 100 * 92
+    assert render_bytes(100, 100, aovs=OPTIONAL_AOVS) == 100 * 100 * 128
 
 
 # ------------------------------------------------------------------------------------------ failed renders

@@ -491,3 +491,9 @@ def test_scene_is_immutable():
     scene = load_scene("fig04")
     with pytest.raises(AttributeError):
         scene.metric = wv.Minkowski()
+
+
+def test_scene_aov_names_are_the_renderers():
+    from warpviz.render.render import OPTIONAL_AOVS
+
+    assert set(AOV_NAMES) == set(OPTIONAL_AOVS) | {"errors", "samples"}

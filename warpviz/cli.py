@@ -46,7 +46,9 @@ from rich.text import Text
 
 import warpviz
 from warpviz.io import written_by_warpviz
-from warpviz.limits import MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP
+from warpviz.limits import EXPOSURE_RANGE, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES, exposure_stops
+from warpviz.render.denoise import DenoiserMissing
+from warpviz.render.false_colour import FALSE_COLOUR_STYLES
 from warpviz.render.render import OPTIONAL_AOVS
 from warpviz.scene import Scene, SceneError, load_scene
 from warpviz.scene.catalog import looks_like_path, scene_description, scene_dirs, shipped_scenes
@@ -238,20 +240,38 @@ def _progress_bar(label: str, *, enabled: bool):
 
 
 def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_sampling, progress, record_pixels=None,
-                  light_connection=None, crop=None, aovs=None):
+                  light_connection=None, crop=None, aovs=None, denoise=False):
     """Call warpviz.render with the command line's options; bad options (and images too large for the
-    memory) become exit code 2."""
+    memory) become exit code 2, a denoiser that is not installed exit code 1 with the extra to install."""
     render = _renderer()
     width, height = size if size is not None else (None, None)
+    extra = {"denoise": True} if denoise else {}  # only when asked: a stand-in renderer need not know it
     try:
         return render(scene, spp=spp, width=width, height=height, seed=seed, threads=threads, flat=flat,
                       light_sampling=light_sampling, paper=paper, progress=progress,
                       record_pixels=record_pixels, light_connection=light_connection, crop=crop,
-                      aovs=aovs)  # fmt: skip
+                      aovs=aovs, **extra)  # fmt: skip
+    except DenoiserMissing as exc:
+        _fail(f"--denoise: {exc}", EXIT_ERROR)
     except (ValueError, TypeError) as exc:
         if isinstance(exc, SceneError):
             raise
         _fail(str(exc), EXIT_BAD_INPUT)
+
+
+def _look(scene: Scene, *, exposure: Optional[float], tonemap: Optional[str]) -> dict:
+    """The PNG's ``exposure`` and ``tonemap`` for ``Image.save``: the flags, else the scene's ``[outputs]``,
+    else None (the defaults of :mod:`warpviz.render.tonemap`); a bad flag is exit code 2."""
+    exposure = exposure if exposure is not None else scene.outputs.get("exposure")
+    tonemap = tonemap if tonemap is not None else scene.outputs.get("tonemap")
+    if exposure is not None:
+        try:
+            exposure = exposure_stops("--exposure", exposure)
+        except ValueError as exc:
+            _fail(str(exc), EXIT_BAD_INPUT)
+    if tonemap is not None and tonemap not in TONEMAP_NAMES:
+        _fail(f"--tonemap must be one of {', '.join(TONEMAP_NAMES)}, got {tonemap!r}", EXIT_BAD_INPUT)
+    return {"exposure": exposure, "tonemap": tonemap}
 
 
 def _aovs_for(target: Optional[Path], scene: Scene) -> list[str]:
@@ -347,6 +367,28 @@ def render(
         help="Exit with code 3 when more than this fraction of the samples failed (a geodesic ran out of "
         "steps, broke a conservation law or became nan); the image is still written.",
     ),  # fmt: skip
+    exposure: Optional[float] = typer.Option(
+        None, "--exposure",
+        help=f"PNG only: exposure in stops, the radiance times 2**S before tonemapping, in "
+        f"[{EXPOSURE_RANGE[0]:g}, {EXPOSURE_RANGE[1]:g}] (default: the scene's [outputs] exposure, else 0).",
+    ),  # fmt: skip
+    tonemap: Optional[str] = typer.Option(
+        None, "--tonemap",
+        help="PNG only: 'filmic' (default: hue-preserving shoulder, saturated lights keep their colour), 'clip' "
+        "(each channel clamped to 1) or 'reinhard' (x / (1 + x) per channel). Default: the scene's [outputs] "
+        "tonemap, else filmic.",
+    ),  # fmt: skip
+    denoise: bool = typer.Option(
+        False, "--denoise",
+        help="Denoise with Intel Open Image Denoise (pip install 'warpviz[denoise]'), fed with the albedo and "
+        "normal at each path's first non-specular hit. A PNG shows the denoised image; an EXR keeps the "
+        "unbiased radiance as R, G, B and adds the denoised one as the layer denoised.R/G/B.",
+    ),  # fmt: skip
+    false_colour: Optional[str] = typer.Option(
+        None, "--false-colour",
+        help=f"Write a false-colour PNG of this AOV ({', '.join(FALSE_COLOUR_STYLES)}) with a colour bar "
+        "naming the quantity and its range, instead of the tonemapped picture.",
+    ),  # fmt: skip
     force: bool = typer.Option(False, "--force", help="Replace an existing output file that warpviz did not write."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:
@@ -357,19 +399,31 @@ def render(
     """
     with _guard(), _stoppable():
         sc = load_scene(scene)
+        look = _look(sc, exposure=exposure, tonemap=tonemap)
         chosen = output is None and sc.outputs.get("file") is not None
         target = output or Path(sc.outputs.get("file") or f"{sc.path.stem if sc.path else 'scene'}.png")
         target = _output_path(target, IMAGE_SUFFIXES, force=force, scene=sc if chosen else None)
+        aovs = _aovs_for(target, sc)
+        if false_colour is not None:
+            if false_colour not in FALSE_COLOUR_STYLES:
+                _fail(f"--false-colour must be one of {', '.join(FALSE_COLOUR_STYLES)}, got {false_colour!r}",
+                      EXIT_BAD_INPUT)  # fmt: skip
+            if target.suffix.lower() != ".png":
+                _fail(f"--false-colour writes a PNG picture: give -o NAME.png, not {str(target)!r}", EXIT_BAD_INPUT)
+            aovs = [false_colour] if false_colour in OPTIONAL_AOVS else []
         _renderer()
         t0 = time.perf_counter()
         with _progress_bar(sc.path.stem if sc.path else "scene", enabled=not quiet) as progress:
             img = _render_scene(sc, spp=spp, size=size, seed=seed, threads=threads, flat=flat, paper=paper,
                                 light_sampling=False if no_light_sampling else None, progress=progress,
-                                light_connection=light_connection, crop=crop,
-                                aovs=_aovs_for(target, sc))  # fmt: skip
+                                light_connection=light_connection, crop=crop, aovs=aovs,
+                                denoise=denoise)  # fmt: skip
         if target.suffix.lower() == ".exr":
             _keep_aovs(img, sc.outputs.get("aovs"))
-        img.save(target)
+        if false_colour is not None:
+            img.false_colour(false_colour).save(target, metadata=img.metadata)
+        else:
+            img.save(target, **look)
         seconds = time.perf_counter() - t0
         h, w = np.shape(img.rgb)[:2]
         if not getattr(img, "completed", True):
@@ -397,12 +451,15 @@ def trace(
     seed: Optional[int] = typer.Option(None, "--seed", min=0, max=MAX_SEED, help="Random seed (default: the scene's)."),
     flat: bool = typer.Option(False, "--flat", help="Flat space instead of the scene's metric."),
     paper: bool = typer.Option(False, "--paper", help="Use the scene's [render.paper] settings."),
+    exposure: Optional[float] = typer.Option(None, "--exposure", help="PNG --image only: exposure in stops (see render)."),
+    tonemap: Optional[str] = typer.Option(None, "--tonemap", help="PNG --image only: filmic, clip or reinhard (see render)."),
     force: bool = typer.Option(False, "--force", help="Replace existing output files that warpviz did not write."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:
     """Render a scene and save the sampled light paths of chosen pixels as a .vtp file."""
     with _guard(), _stoppable():
         sc = load_scene(scene)
+        look = _look(sc, exposure=exposure, tonemap=tonemap)
         record = _parse_pixels(pixels)
         width, height = size if size is not None else sc.size(paper=paper)
         outside = [(int(x), int(y)) for x, y in record if not (x < width and y < height)]
@@ -425,7 +482,7 @@ def trace(
         if picture is not None:
             if picture.suffix.lower() == ".exr":
                 _keep_aovs(img, sc.outputs.get("aovs"))
-            img.save(picture)
+            img.save(picture, **look)
         err.print(f"wrote {target} ({len(record)} pixels)" + (f" and {picture}" if picture else ""))
         if not getattr(img, "completed", True):
             raise typer.Exit(_stop_code())
@@ -659,7 +716,7 @@ def doctor(
         table.add_row("viewer", "available" if _api("view", "viewer") else "not in this build")
         folders = ", ".join(str(d) for d in scene_dirs()) or "nowhere"
         table.add_row("scenes", f"{len(shipped_scenes())} shipped in {folders}")
-        for dist in ("numpy", "trimesh", "pillow", "OpenEXR", "typer", "rich", "pyvista", "vtk"):
+        for dist in ("numpy", "trimesh", "pillow", "OpenEXR", "typer", "rich", "pyvista", "vtk", "matplotlib", "pyoidn"):
             table.add_row(dist, _package_version(dist))
         display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
         table.add_row("display", display or "none (headless)")
@@ -675,13 +732,14 @@ BENCH_SUITES = {
     "skips": "bench_skips.py",
     "light-connection": "bench_light_connection.py",
     "mitsuba-cornell": "bench_mitsuba_cornell.py",
+    "denoise": "bench_denoise.py",
 }
 
 
 @app.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
 def bench(ctx: typer.Context) -> None:
     """Run a benchmark: `warpviz bench SUITE OPTIONS`, SUITE one of geodesics, work-precision, render, skips,
-    light-connection, mitsuba-cornell.
+    light-connection, mitsuba-cornell, denoise.
 
     Without a SUITE it runs the far-observer geodesic benchmark (benchmarks/bench_geodesics.py); every
     suite takes its own options after the name, e.g. `warpviz bench --size 32` or

@@ -19,7 +19,8 @@ from __future__ import annotations
 
 import numbers
 
-__all__ = ["MAX_IMAGE_SIDE", "MAX_SPP", "MAX_SEED", "TOLERANCE_RANGES", "image_side", "tolerance_problem", "tolerance_range"]
+__all__ = ["EXPOSURE_RANGE", "TONEMAP_NAMES", "MAX_IMAGE_SIDE", "MAX_SPP", "MAX_SEED", "TOLERANCE_RANGES", "exposure_stops", "image_side",
+           "tolerance_problem", "tolerance_range"]
 
 #: Largest image width or height in pixels. Whether an image of a given size fits in memory is checked
 #: against the machine before rendering; this only bounds the pixel coordinates the core indexes with.
@@ -30,6 +31,14 @@ MAX_SPP = 2**31 - 1
 
 #: Largest random seed of a render (the core reads it as a signed 64-bit integer).
 MAX_SEED = 2**63 - 1
+
+#: The exposure of a tonemapped picture, in stops (the radiance times 2 ** exposure), as [lowest, highest]:
+#: 2**20 is a millionfold either way, far beyond any scene's range, and keeps the scaled radiance finite.
+EXPOSURE_RANGE = (-20.0, 20.0)
+
+#: The tonemap curves a PNG may be written with (:mod:`warpviz.render.tonemap` defines them; named here so
+#: scene files, which sit below the renderer, check the same names).
+TONEMAP_NAMES = ("filmic", "clip", "reinhard")
 
 #: The local error tolerances each stepper can meet in double precision, as [lowest, highest]. Below the
 #: lowest, the step-size control asks for errors below the rounding error of the state: the drift of the
@@ -100,3 +109,28 @@ def image_side(name: str, value) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 1 <= value <= MAX_IMAGE_SIDE:
         raise ValueError(f"{name} must be an integer in [1, {MAX_IMAGE_SIDE}], got {value!r}")
     return int(value)
+
+
+def exposure_stops(name: str, value) -> float:
+    """``value`` as an exposure in stops, checked to be a real number in :data:`EXPOSURE_RANGE`.
+
+    Parameters
+    ----------
+    name : str
+        What the value is, for the message (``"exposure"``, ``"outputs.exposure"``).
+    value : float
+        Stops.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        Not a real number, or out of range.
+    """
+    lo, hi = EXPOSURE_RANGE
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not lo <= float(value) <= hi:
+        raise ValueError(f"{name} must be a number of stops in [{lo:g}, {hi:g}], got {value!r}")
+    return float(value)

@@ -176,7 +176,8 @@ nb::dict render(nb::dict scene, nb::dict options) {
   {
     const auto names = option<std::vector<std::string>>(options, "aovs");
     auto keep = [&](const char* name) { return std::find(names.begin(), names.end(), name) != names.end(); };
-    o.aovs = {keep("n_steps"), keep("max_drift"), keep("redshift"), keep("status"), keep("depth"), keep("normal")};
+    o.aovs = {keep("n_steps"), keep("max_drift"), keep("redshift"), keep("status"), keep("depth"), keep("normal"),
+              keep("albedo"), keep("albedo_normal")};
   }
   const auto stepper = stepper_kind(option<std::string>(options, "stepper"));
   if (options.contains("record_pixels") && !options["record_pixels"].is_none()) {
@@ -235,6 +236,8 @@ nb::dict render(nb::dict scene, nb::dict options) {
   aov("status", std::move(f.status), 1);
   aov("depth", std::move(f.depth), 1);
   aov("normal", std::move(f.normal), 3);
+  aov("albedo", std::move(resolved.albedo), 3);
+  aov("albedo_normal", std::move(resolved.albedo_normal), 3);
   aovs["errors"] = to_numpy(std::move(resolved.errors), {H, W});
   aovs["samples"] = to_numpy(std::move(resolved.samples), {H, W});
   out["aovs"] = aovs;

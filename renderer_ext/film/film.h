@@ -16,6 +16,7 @@ namespace wv {
 // asked for costs no memory and no work.
 struct FilmAovs {
   bool n_steps = true, max_drift = true, redshift = true, status = true, depth = true, normal = true;
+  bool albedo = true, albedo_normal = true;  // the denoiser's features, at the first non-specular hit
 };
 
 struct Film {
@@ -32,6 +33,10 @@ struct Film {
   std::vector<float> status;       // (H, W) RayStatus of the camera geodesic
   std::vector<float> depth;        // (H, W) user-frame distance camera -> first hit (inf: none)
   std::vector<float> normal;       // (H, W, 3) user-frame geometric normal at the first hit
+  // Every sample, at its path's first non-specular hit (through mirrors and glass; zero where the path
+  // meets none): the features a denoiser is fed with.
+  std::vector<double> albedo_sum;         // (H, W, 3) albedo in [0, 1] (an emitter: its colour)
+  std::vector<double> albedo_normal_sum;  // (H, W, 3) user-frame normal there
 
   void resize(int x, int y, int w, int h, const FilmAovs& a) {
     x0 = x;
@@ -48,6 +53,8 @@ struct Film {
     status.assign(a.status ? n : 0, 0.0f);
     depth.assign(a.depth ? n : 0, 0.0f);
     normal.assign(a.normal ? 3 * n : 0, 0.0f);
+    albedo_sum.assign(a.albedo ? 3 * n : 0, 0.0);
+    albedo_normal_sum.assign(a.albedo_normal ? 3 * n : 0, 0.0);
   }
 
   // Index of image pixel (px, py), which must lie in the window.
@@ -55,10 +62,11 @@ struct Film {
 };
 
 // The film resolved to per-pixel means, float32 as the image and its AOVs are stored: rgb (H, W, 3) mean
-// radiance, n_steps (if kept) and errors (H, W) means per sample, samples (H, W) counts; and the window's
-// totals of samples and of samples with errors.
+// radiance, n_steps (if kept) and errors (H, W) means per sample, samples (H, W) counts, albedo and
+// albedo_normal (if kept) (H, W, 3) means per sample; and the window's totals of samples and of samples
+// with errors.
 struct ResolvedFilm {
-  std::vector<float> rgb, n_steps, errors, samples;
+  std::vector<float> rgb, n_steps, errors, samples, albedo, albedo_normal;
   int64_t samples_total = 0, errors_total = 0;
 };
 
@@ -80,6 +88,15 @@ inline ResolvedFilm resolve(Film& f) {
     for (size_t i = 0; i < n; ++i) out.n_steps[i] = float(f.steps_sum[i] * per_sample(i));
     std::vector<double>().swap(f.steps_sum);
   }
+  auto mean3 = [&](std::vector<double>& sum, std::vector<float>& mean) {
+    if (sum.empty()) return;
+    mean.resize(3 * n);
+    for (size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) mean[3 * i + k] = float(sum[3 * i + k] * per_sample(i));
+    std::vector<double>().swap(sum);
+  };
+  mean3(f.albedo_sum, out.albedo);
+  mean3(f.albedo_normal_sum, out.albedo_normal);
   out.errors.resize(n);
   for (size_t i = 0; i < n; ++i) {
     out.errors[i] = float(f.errors[i] * per_sample(i));

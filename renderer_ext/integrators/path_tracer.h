@@ -98,6 +98,10 @@ class PathTracer {
     bool error = false;
     double max_drift = 0.0;
     int64_t steps = 0;
+    // The denoiser's features: albedo and normal at the first non-specular hit (no random numbers drawn).
+    out.albedo = {0, 0, 0};
+    out.albedo_normal = {0, 0, 0};
+    bool features_done = film.albedo_sum.empty() && film.albedo_normal_sum.empty();
     // Recording and bookkeeping around each segment.
     auto open = [&]() -> Track* {
       if (!rec) return nullptr;
@@ -134,6 +138,11 @@ class PathTracer {
       L += beta * Le * mis;
       if (e.status != kHit) break;
       const Material& mat = sc_.materials[sc_.prims[e.prim].material];
+      if (!features_done && !mat.is_delta()) {
+        features_done = true;
+        out.albedo = feature_albedo(mat, e.surface);
+        out.albedo_normal = e.surface.normal;
+      }
       if (mat.kind == MaterialKind::kEmissive || bounce + 1 >= o_.max_depth) break;
       const SurfacePoint& sp = e.surface;
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
@@ -224,6 +233,15 @@ class PathTracer {
   }
 
  private:
+  // The albedo feature of a non-specular surface point, in [0, 1]: a diffuse surface's albedo, an emitter's
+  // colour (its texture, white without one).
+  V3 feature_albedo(const Material& mat, const SurfacePoint& sp) const {
+    V3 a = mat.kind == MaterialKind::kEmissive ? (mat.texture >= 0 ? sc_.textures[mat.texture].eval(sp.u, sp.v) : V3{1, 1, 1})
+                                               : sc_.albedo(mat, sp);
+    for (int c = 0; c < 3; ++c) a[c] = std::min(1.0, std::max(0.0, a[c]));
+    return a;
+  }
+
   // The first-hit AOVs the film keeps, from the camera geodesic `e` of sample 0 of film pixel `pix`.
   void first_hit_aovs(Film& film, size_t pix, const SegmentEnd& e) const {
     if (!film.status.empty()) film.status[pix] = float(e.status);

@@ -28,6 +28,7 @@ struct SampleOut {
   bool error = false;
   double max_drift = 0.0;
   int64_t steps = 0;
+  V3 albedo{0, 0, 0}, albedo_normal{0, 0, 0};  // at the first non-specular hit (if the film keeps them)
   std::vector<RecordedSegment> rec;  // recorded pixels: this sample's segments
 };
 
@@ -38,6 +39,10 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
   if (!film.steps_sum.empty()) film.steps_sum[pix] += double(so.steps);
   if (!film.max_drift.empty()) film.max_drift[pix] = std::max(film.max_drift[pix], float(so.max_drift));
   if (so.error) film.errors[pix] += 1;
+  if (!film.albedo_sum.empty())
+    for (int c = 0; c < 3; ++c) film.albedo_sum[3 * pix + c] += so.albedo[c];
+  if (!film.albedo_normal_sum.empty())
+    for (int c = 0; c < 3; ++c) film.albedo_normal_sum[3 * pix + c] += so.albedo_normal[c];
 }
 
 // Renders camera `cam` (its window o.crop, if set) with o.spp samples per pixel: sample(px, py, s, film, out,

@@ -11,12 +11,13 @@ Examples
 ...             metadata={"metric": "minkowski"})
 >>> img.shape
 (2, 3)
->>> tonemap(np.array([[[0.0, 0.5, 2.0]]], dtype=np.float32)).tolist()
+>>> tonemap(np.array([[[0.0, 0.5, 2.0]]], dtype=np.float32), method="clip").tolist()
 [[[0, 188, 255]]]
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 from dataclasses import dataclass, field
@@ -25,6 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from warpviz.io import SOFTWARE_KEY, atomic_write, software, write_png
+from warpviz.render.tonemap import DEFAULT_EXPOSURE, DEFAULT_TONEMAP, tonemap, tonemap_name
+from warpviz.limits import exposure_stops
 from warpviz.tracing import RayBundle
 
 __all__ = ["Image", "tonemap", "AOV_DESCRIPTIONS"]
@@ -37,40 +40,16 @@ AOV_DESCRIPTIONS = {
     "status": "RayStatus code of the camera geodesic of sample 0 (0 escaped, 1 hit, 2 horizon, ...)",
     "depth": "user-frame distance from the camera to the first hit (inf: none), sample 0",
     "normal": "(H, W, 3) user-frame geometric normal at the first hit, sample 0",
+    "albedo": "(H, W, 3) mean over samples of the albedo in [0, 1] at the path's first non-specular hit "
+              "(through mirrors and glass; an emitter: its colour; 0 where none): the denoiser's feature",
+    "albedo_normal": "(H, W, 3) mean over samples of the user-frame normal at the path's first non-specular hit "
+                     "(0 where none): the denoiser's feature",
     "errors": "fraction of samples whose path had a geodesic ending in max_steps/invariant_violation/nan",
     "samples": "number of samples accumulated (less than spp after an interruption)",
 }
 
 
 _TONEMAP_PIXELS = 1 << 16  # pixels tonemapped at a time (~6 MB of float64 temporaries)
-
-
-def tonemap(rgb: np.ndarray, *, exposure: float = 1.0, method: str = "clip") -> np.ndarray:
-    """Linear RGB to 8-bit sRGB.
-
-    Parameters
-    ----------
-    rgb : numpy.ndarray
-        (H, W, 3) float linear radiance.
-    exposure : float, keyword-only
-        Scale applied before tonemapping.
-    method : {"clip", "reinhard"}, keyword-only
-        ``"clip"`` clamps to [0, 1]; ``"reinhard"`` maps x to x / (1 + x), keeping highlights.
-
-    Returns
-    -------
-    numpy.ndarray
-        (H, W, 3) uint8, sRGB-encoded.
-    """
-    x = np.nan_to_num(np.asarray(rgb, dtype=np.float64) * exposure, nan=0.0, posinf=1.0, neginf=0.0)
-    x = np.maximum(x, 0.0)
-    if method == "reinhard":
-        x = x / (1.0 + x)
-    elif method != "clip":
-        raise ValueError(f"unknown tonemap method {method!r} (known: clip, reinhard)")
-    x = np.minimum(x, 1.0)
-    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
-    return np.round(srgb * 255.0).astype(np.uint8)
 
 
 @dataclass(frozen=True, eq=False)
@@ -96,6 +75,10 @@ class Image:
         ``rays.ray_data``.
     native_scene : dict or None
         The native scene dictionary that was rendered (for the 3-D view).
+    denoised : numpy.ndarray or None
+        (H, W, 3) float32 radiance denoised by Intel Open Image Denoise (:meth:`denoise`,
+        ``render(denoise=True)``), or None. ``rgb`` stays the unbiased estimate; a PNG shows this one,
+        an EXR keeps it as the extra layer ``denoised.R/G/B``.
     """
 
     rgb: np.ndarray
@@ -105,6 +88,7 @@ class Image:
     metadata: dict = field(default_factory=dict)
     rays: RayBundle | None = None
     native_scene: dict | None = None
+    denoised: np.ndarray | None = None
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -118,27 +102,99 @@ class Image:
         darker there by this fraction on average. Per pixel: ``aovs["errors"]``."""
         return float(self.stats.get("error_fraction", 0.0))
 
-    def to_uint8(self, *, exposure: float = 1.0, method: str = "clip") -> np.ndarray:
-        """The tonemapped (H, W, 3) uint8 sRGB picture (see :func:`tonemap`), made in bands of rows so a
-        large image needs no float64 copy of itself."""
-        rgb = np.asarray(self.rgb)
+    def denoise(self) -> Image:
+        """This image with its radiance denoised by Intel Open Image Denoise (the optional ``pyoidn``).
+
+        The ``albedo`` and ``albedo_normal`` AOVs are the denoiser's features where the image has them
+        (``render(denoise=True)`` computes them); without them the radiance alone is denoised.
+
+        Returns
+        -------
+        Image
+            A copy with :attr:`denoised` set and ``metadata["denoised"]`` naming the denoiser and the
+            features it used; ``rgb`` and the AOVs are this image's own (not copied).
+
+        Raises
+        ------
+        warpviz.render.denoise.DenoiserMissing
+            ``pyoidn`` is not installed (``pip install 'warpviz[denoise]'``).
+        """
+        from warpviz.render.denoise import DENOISE_FEATURES, denoise_radiance, denoiser_version
+
+        albedo, normal = (self.aovs.get(name) for name in DENOISE_FEATURES)
+        features = [name for name, a in zip(DENOISE_FEATURES, (albedo, normal)) if a is not None]
+        if albedo is None:
+            features = []
+        out = denoise_radiance(self.rgb, albedo=albedo, normal=normal if albedo is not None else None)
+        meta = {**self.metadata, "denoised": {"denoiser": denoiser_version(), "features": features}}
+        return dataclasses.replace(self, denoised=out, metadata=meta)
+
+    def false_colour(self, aov: str, *, vmin: float | None = None, vmax: float | None = None,
+                     cmap: str | None = None):
+        """A false-colour picture of a scalar AOV with a labelled colour bar.
+
+        Parameters
+        ----------
+        aov : str
+            ``redshift``, ``n_steps``, ``max_drift``, ``depth``, ``errors``, ``samples`` or ``status``
+            (:data:`warpviz.render.false_colour.FALSE_COLOUR_STYLES`); the image must have it.
+        vmin, vmax : float, optional, keyword-only
+            The range shown (default: the values' own; redshift symmetric about g = 1).
+        cmap : str, optional, keyword-only
+            A matplotlib colormap instead of the AOV's.
+
+        Returns
+        -------
+        warpviz.render.false_colour.FalseColour
+            ``pixels`` (H', W', 3) uint8, ``vmin``, ``vmax``, ``save(path)``.
+        """
+        from warpviz.render.false_colour import false_colour, false_colour_style
+
+        false_colour_style(aov)  # a known quantity, before asking whether the image has it
+        if aov not in self.aovs:
+            have = ", ".join(sorted(self.aovs)) or "none"
+            raise ValueError(f"this image has no {aov!r} AOV (it has: {have}); render with aovs=[{aov!r}]")
+        return false_colour(self.aovs[aov], quantity=aov, vmin=vmin, vmax=vmax, cmap=cmap)
+
+    def to_uint8(self, *, exposure: float = DEFAULT_EXPOSURE, method: str = DEFAULT_TONEMAP) -> np.ndarray:
+        """The tonemapped picture, made in bands of rows so a large image needs no float64 copy of itself.
+
+        Parameters
+        ----------
+        exposure : float, keyword-only
+            Stops (radiance times ``2 ** exposure``), in :data:`warpviz.limits.EXPOSURE_RANGE`. The
+            radiance is the denoised one where the image has it (:attr:`denoised`).
+        method : {"filmic", "clip", "reinhard"}, keyword-only
+            The curve (:mod:`warpviz.render.tonemap`).
+
+        Returns
+        -------
+        numpy.ndarray
+            (H, W, 3) uint8 sRGB.
+        """
+        exposure, method = exposure_stops("exposure", exposure), tonemap_name(method)
+        rgb = np.asarray(self.rgb if self.denoised is None else self.denoised)
         out = np.empty(rgb.shape[:2] + (3,), dtype=np.uint8)
         rows = max(1, _TONEMAP_PIXELS // max(1, rgb.shape[1]))
         for y in range(0, rgb.shape[0], rows):
             out[y : y + rows] = tonemap(rgb[y : y + rows], exposure=exposure, method=method)
         return out
 
-    def save(self, path: str | os.PathLike, *, exposure: float = 1.0, tonemap_method: str = "clip") -> Path:
+    def save(self, path: str | os.PathLike, *, exposure: float | None = None, tonemap: str | None = None) -> Path:
         """Write the image, atomically.
 
         Parameters
         ----------
         path : str or os.PathLike
-            ``.exr``: float32 channels R, G, B plus every AOV (``normal`` as ``normal.X/Y/Z``), the
-            metadata as the ``warpviz`` header string and ``errorFraction`` as a float attribute.
-            ``.png``: tonemapped 8-bit sRGB, the metadata as a ``warpviz`` text chunk.
-        exposure, tonemap_method : keyword-only
-            PNG only; see :func:`tonemap`.
+            ``.exr``: float32 channels R, G, B (the unbiased radiance) plus every AOV (``normal`` as
+            ``normal.X/Y/Z``) and, for a denoised image, the layer ``denoised.R/G/B``; the metadata as
+            the ``warpviz`` header string and ``errorFraction`` as a float attribute.
+            ``.png``: tonemapped 8-bit sRGB (of the denoised radiance, where there is one), the metadata
+            (with the ``tonemap`` and ``exposure`` used) as a ``warpviz`` text chunk.
+        exposure : float, optional, keyword-only
+            PNG only: stops (default :data:`warpviz.render.tonemap.DEFAULT_EXPOSURE`, 0).
+        tonemap : {"filmic", "clip", "reinhard"}, optional, keyword-only
+            PNG only: the curve (default :data:`warpviz.render.tonemap.DEFAULT_TONEMAP`).
 
         Returns
         -------
@@ -150,8 +206,11 @@ class Image:
         if suffix == ".exr":
             return atomic_write(path, self._write_exr)
         if suffix == ".png":
-            pixels = self.to_uint8(exposure=exposure, method=tonemap_method)
-            return write_png(path, pixels, text={"warpviz": json.dumps(self.metadata, sort_keys=True, default=str)})
+            exposure = DEFAULT_EXPOSURE if exposure is None else exposure_stops("exposure", exposure)
+            method = DEFAULT_TONEMAP if tonemap is None else tonemap_name(tonemap)
+            pixels = self.to_uint8(exposure=exposure, method=method)
+            meta = {**self.metadata, "tonemap": method, "exposure": exposure}
+            return write_png(path, pixels, text={"warpviz": json.dumps(meta, sort_keys=True, default=str)})
         raise ValueError(f"cannot save {str(path)!r}: use a .exr or .png file name")
 
     def _write_exr(self, tmp: Path) -> None:
@@ -169,6 +228,9 @@ class Image:
                     channels[f"{name}.{axis}"] = np.ascontiguousarray(arr[..., k])
             else:
                 channels[name] = np.ascontiguousarray(arr)
+        if self.denoised is not None:
+            for k, c in enumerate("RGB"):
+                channels[f"denoised.{c}"] = np.ascontiguousarray(self.denoised[..., k], dtype=np.float32)
         header = {
             "compression": OpenEXR.ZIP_COMPRESSION,
             "type": OpenEXR.scanlineimage,

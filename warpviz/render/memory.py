@@ -43,6 +43,8 @@ AOV_BYTES = {
     "status": (4, 4),
     "depth": (4, 4),
     "normal": (12, 12),
+    "albedo": (24, 12),  # double sums over the samples, resolved to float32 after the radiance is freed
+    "albedo_normal": (24, 12),
 }
 #: Kept free beside the estimate: the interpreter, the extension, the scene and the samples in flight.
 _HEADROOM = 256 * 2**20
@@ -63,7 +65,7 @@ def render_bytes(width: int, height: int, *, aovs: Iterable[str]) -> int:
         Pixels rendered (the crop window's size, if one is given).
     aovs : iterable of str, keyword-only
         The optional AOVs computed (``n_steps``, ``max_drift``, ``redshift``, ``status``, ``depth``,
-        ``normal``); radiance, ``errors`` and ``samples`` are always kept.
+        ``normal``, ``albedo``, ``albedo_normal``); radiance, ``errors`` and ``samples`` are always kept.
 
     Returns
     -------

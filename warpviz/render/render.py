@@ -32,6 +32,7 @@ import numpy as np
 
 from warpviz._native import core
 from warpviz.limits import MAX_SEED, MAX_SPP, image_side, tolerance_problem
+from warpviz.render.denoise import DENOISE_FEATURES, require_denoiser
 from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
 from warpviz.scene.native import native_scene
@@ -41,7 +42,7 @@ from warpviz.tracing import STEPPERS, RayBundle, default_max_drift, recorded_poi
 __all__ = ["render", "DEFAULT_OPTIONS", "FILTER_RADII", "OPTIONAL_AOVS"]
 
 #: The AOVs a render computes only when asked (``aovs=``); ``errors`` and ``samples`` it always keeps.
-OPTIONAL_AOVS = ("redshift", "n_steps", "max_drift", "status", "depth", "normal")
+OPTIONAL_AOVS = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal")
 
 #: Renderer options and their defaults (see docs/native-scene.md).
 DEFAULT_OPTIONS = {
@@ -127,6 +128,7 @@ def render(
     crop=None,
     progress: Callable[[int, int], object] | None = None,
     record_pixels=None,
+    denoise: bool = False,
 ) -> Image:
     """Path-trace a scene.
 
@@ -210,6 +212,11 @@ def render(
         Raising ``KeyboardInterrupt`` in it stops the render like Ctrl-C.
     record_pixels : array_like of int, optional, keyword-only
         (K, 2) pixel coordinates (x, y) whose sampled paths are recorded into ``Image.rays``.
+    denoise : bool, keyword-only
+        Denoise the radiance with Intel Open Image Denoise (the optional dependency ``pyoidn``:
+        ``pip install 'warpviz[denoise]'``), fed with the ``albedo`` and ``albedo_normal`` AOVs, which are
+        then computed whatever ``aovs`` says (default False). ``Image.rgb`` stays the unbiased radiance;
+        the denoised one is ``Image.denoised`` (:meth:`Image.denoise`).
 
     Returns
     -------
@@ -225,6 +232,8 @@ def render(
     warpviz.render.memory.RenderTooLarge
         The render would need more memory than the machine has free (a ValueError; the message gives
         the estimate and what to do).
+    warpviz.render.denoise.DenoiserMissing
+        ``denoise=True`` without ``pyoidn`` installed (an ImportError naming the extra), before rendering.
     """
     native, options, source = _resolve(scene, flat=flat, width=width, height=height, paper=paper)
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
@@ -278,6 +287,11 @@ def render(
         if value is not None:
             options[key] = value
     options["aovs"] = _aov_names(options["aovs"])
+    if not isinstance(denoise, (bool, np.bool_)):
+        raise ValueError(f"denoise must be True or False, got {denoise!r}")
+    if denoise:
+        require_denoiser()  # before any work: a missing optional dependency is named at once
+        options["aovs"] += [a for a in DENOISE_FEATURES if a not in options["aovs"]]
     w, h = native["camera"]["width"], native["camera"]["height"]
     x0, y0, cw, ch = options["crop"] = _crop(options["crop"], w, h)
     options["record_pixels"] = _record_pixels(record_pixels, (x0, y0, cw, ch), (w, h))
@@ -308,7 +322,7 @@ def render(
     if (cw, ch) != (w, h):
         metadata["crop"] = [x0, y0, cw, ch]
     rays = _bundle(raw["rays"], metric, options) if "rays" in raw else None
-    return Image(
+    img = Image(
         rgb=raw["rgb"],
         aovs=dict(raw["aovs"]),
         completed=bool(raw["completed"]),
@@ -317,6 +331,7 @@ def render(
         rays=rays,
         native_scene=native,
     )
+    return img.denoise() if denoise else img
 
 
 def _aov_names(value) -> list[str]:

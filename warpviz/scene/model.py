@@ -56,7 +56,9 @@ class Scene:
     camera : dict
         ``position``, ``look_at``, ``up``, ``fov``, ``sheet``.
     outputs : dict
-        ``aovs`` (list of AOV names, or None for all) and ``file`` (default output file, or None).
+        ``aovs`` (list of AOV names, or None for all), ``file`` (default output file, or None),
+        ``tonemap`` and ``exposure`` (how a PNG is tonemapped, or None for the defaults of
+        :mod:`warpviz.render.tonemap`).
     """
 
     path: Path | None

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from warpviz.limits import MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, tolerance_problem
+from warpviz.limits import EXPOSURE_RANGE, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES, tolerance_problem
 from warpviz._native import core, registered_metrics
 from warpviz.scene.native import SCHEMA
 from warpviz.scene.reader import _describe, _Reader, did_you_mean, key_name
@@ -23,7 +23,11 @@ from warpviz.tracing import STEPPERS
 
 __all__ = ["AOV_NAMES"]
 
-AOV_NAMES = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "errors", "samples")
+#: The AOV names a scene's ``[outputs] aovs`` may list: :data:`warpviz.render.render.OPTIONAL_AOVS` (the
+#: renderer sits above scenes, so they are named here too; tests/test_scene.py checks they agree) and the
+#: two a render always keeps.
+AOV_NAMES = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal", "errors",
+             "samples")
 
 
 def _metric(r: _Reader, tbl: Any) -> Metric:
@@ -123,7 +127,7 @@ def _render(r: _Reader, tbl: Any) -> tuple[dict, dict]:
 
 def _outputs(r: _Reader, tbl: Any) -> dict:
     path = ("outputs",)
-    r.table(path, tbl, ("aovs", "file"))
+    r.table(path, tbl, ("aovs", "file", "tonemap", "exposure"))
     aovs = None
     if "aovs" in tbl:
         aovs = tbl["aovs"]
@@ -139,4 +143,8 @@ def _outputs(r: _Reader, tbl: Any) -> dict:
         file = r.string(tbl, path, "file")
         if Path(file).suffix.lower() not in (".png", ".exr"):
             raise r.error(path + ("file",), f"outputs.file must end in .png or .exr, got {file!r}")
-    return {"aovs": aovs, "file": file}
+    # The PNG's look; None: the defaults of warpviz.render.tonemap (the command line's flags override both).
+    tonemap = r.choice(tbl, path, "tonemap", list(TONEMAP_NAMES)) if "tonemap" in tbl else None
+    exposure = (r.real(tbl, path, "exposure", lo=EXPOSURE_RANGE[0], hi=EXPOSURE_RANGE[1], lo_open=False, hi_open=False)
+                if "exposure" in tbl else None)  # fmt: skip
+    return {"aovs": aovs, "file": file, "tonemap": tonemap, "exposure": exposure}

@@ -96,7 +96,7 @@ def _surface_rgb(surfaces, native_scene) -> np.ndarray:
     if material is not None and len(colors):
         ok = (material >= 0) & (material < len(colors))
         linear[ok] = colors[material[ok]]
-    return tonemap(linear[None, :, :])[0]
+    return tonemap(linear[None, :, :], method="clip")[0]  # albedos in [0, 1]: shown as they are
 
 
 def _focus_bounds(meshes) -> np.ndarray | None:
