@@ -32,8 +32,8 @@ __all__ = ["SLIDER_STEPS", "apply_controls", "camera_distance", "image_click_to_
 #: Positions along each slider (its step is its span over this).
 SLIDER_STEPS = 200
 
-#: A parameter with no upper bound (mass, throat) slides up to this many times the scene's value, and
-#: down to the scene's value over it where its lower bound is 0.
+#: A parameter with no upper bound (mass, throat) slides up to the scene's value plus this many times it
+#: (5x the value), and down to the scene's value over it where its lower bound is 0.
 _UNBOUNDED_SPAN = 4.0
 
 
