@@ -104,7 +104,7 @@ def test_serve_refuses_a_missing_scene():
     from warpviz.cli import app
 
     result = CliRunner().invoke(app, ["serve", "no/such/scene.toml", "--no-browser"])
-    assert result.exit_code == 2 and "no such file" in result.output
+    assert result.exit_code == 2 and "no/such/scene.toml: no such scene file" in result.output
 
 
 # ---------------------------------------------------------------------------------------------- browser

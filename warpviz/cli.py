@@ -605,10 +605,7 @@ def serve(
             require_web()
         except ImportError as exc:
             _fail(str(exc), EXIT_BAD_INPUT)
-        if not looks_like_path(scene) or Path(scene).is_file():
-            sc = load_scene(scene)
-        else:
-            _fail(f"{scene}: no such file", EXIT_BAD_INPUT)
+        sc = load_scene(scene)  # a missing file or unknown name: a SceneError, exit 2
         err.print(f"rendering the preview of {sc.path.name if sc.path else scene} ...")
 
         def ready(url: str) -> None:

@@ -57,10 +57,9 @@ def _native_of(scene) -> dict:
     if isinstance(scene, Mapping):
         return dict(scene)
     from warpviz.scene import load_scene
-    from warpviz.scene.catalog import resolve_scene
 
     if not hasattr(scene, "native"):
-        scene = load_scene(resolve_scene(scene))
+        scene = load_scene(scene)  # a path or a shipped scene's name
     return scene.native(flat=False, width=None, height=None, paper=False)
 
 
@@ -135,15 +134,11 @@ class TeachingApp:
         import pyvista as pv
         from trame.app import get_server
 
-        from warpviz.viewer.view_content import view_content
-
         self.base = _native_of(scene)
-        self.native = self.base
         self.preview_width = int(preview_width)
         self.spp = int(spp)
-        self.renders = 0
         self._generation = 0
-        self.content = view_content(self.base, preview_width=self.preview_width, spp=self.spp)
+        self.native, self.content = self._preview({})
         self.renders = 1
         self.plotter = pv.Plotter(off_screen=True, window_size=list(PANEL_SIZE), border=False)
         self.teaching = self._build_panel()
@@ -223,13 +218,16 @@ class TeachingApp:
         """The sliders' current values, by name."""
         return {s["name"]: float(self.server.state[f"slider_{s['name']}"]) for s in self.sliders}
 
-    def rerender(self, values: Mapping[str, float]) -> None:
-        """Render the preview of the scene the slider ``values`` describe and show it (blocking)."""
+    def _preview(self, values: Mapping[str, float]):
+        """The native scene the slider ``values`` describe and its rendered view content (blocking)."""
         from warpviz.viewer.view_content import view_content
 
         native = apply_controls(self.base, values)
-        content = view_content(native, preview_width=self.preview_width, spp=self.spp)
-        self._show(native, content)
+        return native, view_content(native, preview_width=self.preview_width, spp=self.spp)
+
+    def rerender(self, values: Mapping[str, float]) -> None:
+        """Render the preview of the scene the slider ``values`` describe and show it (blocking)."""
+        self._show(*self._preview(values))
 
     def _show(self, native: dict, content) -> None:
         self.native, self.content = native, content
@@ -245,8 +243,6 @@ class TeachingApp:
 
     async def _rerender_later(self, generation: int, values: dict[str, float]) -> None:
         """Re-render in a worker thread after the slider has rested a moment; a newer move wins."""
-        from warpviz.viewer.view_content import view_content
-
         await asyncio.sleep(0.15)
         if generation != self._generation:
             return
@@ -254,8 +250,7 @@ class TeachingApp:
         with state:
             state.busy, state.problem = True, ""
         try:
-            native = apply_controls(self.base, values)
-            content = await asyncio.to_thread(view_content, native, preview_width=self.preview_width, spp=self.spp)
+            native, content = await asyncio.to_thread(self._preview, values)
         except ValueError as exc:  # parameters the metric refuses: say so, keep the last picture
             with state:
                 state.busy, state.problem = False, str(exc)
