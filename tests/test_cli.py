@@ -140,6 +140,20 @@ def test_render_passes_options_and_reports_interruption(tmp_path, monkeypatch):
                   "light_connection": None, "crop": None, "aovs": []}  # fmt: skip (a PNG needs no AOVs)
 
 
+def test_render_passes_edge_samples_only_when_given(tmp_path, monkeypatch):
+    calls = []
+
+    def fake_render(scene, **kw):
+        calls.append(kw)
+        return FakeImage(kw["width"] or 96, kw["height"] or 72, completed=True)
+
+    monkeypatch.setattr(cli, "_renderer", lambda: fake_render)
+    for args in ([], ["--edge-samples", "1"]):
+        result = invoke("render", "fig07", "-o", tmp_path / "e.png", "--size", "8x6", "-q", "--force", *args)
+        assert result.exit_code == 0, result.output
+    assert "edge_samples" not in calls[0] and calls[1]["edge_samples"] == 1
+
+
 def test_render_default_output_and_aov_selection(tmp_path, monkeypatch):
     images = []
 

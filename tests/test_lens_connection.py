@@ -73,6 +73,21 @@ def test_inward_images_are_the_outward_ones_reversed(entry):
         assert back[1] == pytest.approx(out[1], rel=1e-9)
 
 
+@pytest.mark.parametrize("entry", SPHERICAL, ids=lambda e: e["name"])
+@pytest.mark.parametrize("phi", [0.02, 0.1, 0.3])
+def test_inward_rays_steep_enough_to_fall_in_after_b_are_found(entry, phi):
+    """An inward ray from far A that meets near B before it would fall into the hole or pass the throat
+    (small sweep, impact parameter below the critical one) is an image like any other: the lens map finds
+    it, and it is the outward ray from B to A reversed."""
+    m, params = _example(entry)
+    s = _scale(m)
+    out = testing.lens_ray(entry["name"], params, 1.5 * s, 14.0 * s, True, phi)
+    back = testing.lens_ray(entry["name"], params, 14.0 * s, 1.5 * s, True, phi)
+    assert out is not None and back is not None
+    assert back[4] == pytest.approx(out[4], rel=1e-9)  # b
+    assert back[1] == pytest.approx(out[1], rel=1e-9)
+
+
 def _swept(m, r_a, psi, r_b, sheets):
     """Azimuth swept by the equatorial ray leaving (r_a, 0, 0) at angle psi from the radial direction,
     traced to radius r_b, and the sheet it ends on."""

@@ -72,17 +72,29 @@ def collect(options: dict | None = None) -> dict[str, np.ndarray]:
     return out
 
 
+def _option_value(text: str):
+    """A --render-option value: true/false, an integer, a real, else the string itself."""
+    if text.lower() in ("true", "false"):
+        return text.lower() == "true"
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("mode", choices=["save", "compare"])
     p.add_argument("file")
     p.add_argument("--render-option", action="append", default=[], metavar="KEY=VALUE",
-                   help="a render option for every render, e.g. pixel_sampler=independent (repeatable)")
+                   help="a render option for every render, e.g. pixel_sampler=independent or edge_samples=1 (repeatable)")
     a = p.parse_args(argv)
     options = {}
     for item in a.render_option:
         key, _, value = item.partition("=")
-        options[key] = {"true": True, "false": False}.get(value.lower(), value)
+        options[key] = _option_value(value)
     now = collect(options)
     if a.mode == "save":
         np.savez_compressed(a.file, **now)

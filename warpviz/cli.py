@@ -46,7 +46,7 @@ from rich.text import Text
 
 import warpviz
 from warpviz.io import written_by_warpviz
-from warpviz.limits import EXPOSURE_RANGE, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES, exposure_stops
+from warpviz.limits import EXPOSURE_RANGE, MAX_EDGE_SAMPLES, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES, exposure_stops
 from warpviz.render.denoise import DenoiserMissing
 from warpviz.render.false_colour import FALSE_COLOUR_STYLES
 from warpviz.render.render import OPTIONAL_AOVS
@@ -240,12 +240,14 @@ def _progress_bar(label: str, *, enabled: bool):
 
 
 def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_sampling, progress, record_pixels=None,
-                  light_connection=None, crop=None, aovs=None, denoise=False):
+                  light_connection=None, crop=None, aovs=None, denoise=False, edge_samples=None):
     """Call warpviz.render with the command line's options; bad options (and images too large for the
     memory) become exit code 2, a denoiser that is not installed exit code 1 with the extra to install."""
     render = _renderer()
     width, height = size if size is not None else (None, None)
-    extra = {"denoise": True} if denoise else {}  # only when asked: a stand-in renderer need not know it
+    extra = {"denoise": True} if denoise else {}  # only when asked: a stand-in renderer need not know them
+    if edge_samples is not None:
+        extra["edge_samples"] = edge_samples
     try:
         return render(scene, spp=spp, width=width, height=height, seed=seed, threads=threads, flat=flat,
                       light_sampling=light_sampling, paper=paper, progress=progress,
@@ -362,6 +364,11 @@ def render(
         "in Schwarzschild, Reissner-Nordstrom and Ellis, Newton-refined proxies in Kerr) or 'aimed' (the "
         "older flat-space proxies aimed by pilot geodesics, for comparison).",
     ),  # fmt: skip
+    edge_samples: Optional[int] = typer.Option(
+        None, "--edge-samples", min=1, max=MAX_EDGE_SAMPLES,
+        help="Samples per pixel, as a multiple of --spp, in the pixels a directly seen light's edge crosses "
+        "(found by probe rays before rendering, so the image stays unbiased). Default 8; 1 turns it off.",
+    ),  # fmt: skip
     max_error_fraction: float = typer.Option(
         MAX_ERROR_FRACTION, "--max-error-fraction", min=0.0, max=1.0,
         help="Exit with code 3 when more than this fraction of the samples failed (a geodesic ran out of "
@@ -417,7 +424,7 @@ def render(
             img = _render_scene(sc, spp=spp, size=size, seed=seed, threads=threads, flat=flat, paper=paper,
                                 light_sampling=False if no_light_sampling else None, progress=progress,
                                 light_connection=light_connection, crop=crop, aovs=aovs,
-                                denoise=denoise)  # fmt: skip
+                                denoise=denoise, edge_samples=edge_samples)  # fmt: skip
         if target.suffix.lower() == ".exr":
             _keep_aovs(img, sc.outputs.get("aovs"))
         if false_colour is not None:

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numbers
 
-__all__ = ["EXPOSURE_RANGE", "TONEMAP_NAMES", "MAX_IMAGE_SIDE", "MAX_SPP", "MAX_SEED", "TOLERANCE_RANGES", "exposure_stops", "image_side",
+__all__ = ["EXPOSURE_RANGE", "TONEMAP_NAMES", "MAX_EDGE_SAMPLES", "MAX_IMAGE_SIDE", "MAX_SPP", "MAX_SEED", "TOLERANCE_RANGES", "exposure_stops", "image_side",
            "tolerance_problem", "tolerance_range"]
 
 #: Largest image width or height in pixels. Whether an image of a given size fits in memory is checked
@@ -28,6 +28,9 @@ MAX_IMAGE_SIDE = 65536
 
 #: Largest number of samples per pixel (the film counts a pixel's samples in 32 bits).
 MAX_SPP = 2**31 - 1
+
+#: Largest multiple of spp that the pixels on a directly seen light's edge get (``render(edge_samples=)``).
+MAX_EDGE_SAMPLES = 64
 
 #: Largest random seed of a render (the core reads it as a signed 64-bit integer).
 MAX_SEED = 2**63 - 1

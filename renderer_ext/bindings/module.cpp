@@ -166,6 +166,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
     o.filter = f == "box" ? wv::kBoxFilter : f == "gaussian" ? wv::kGaussianFilter : wv::kMitchellFilter;
     o.filter_radius = option<double>(options, "filter_radius");
   }
+  o.edge_samples = option<int>(options, "edge_samples");
   o.batch = option<bool>(options, "batch");
   o.threads = option<int>(options, "threads");
   if (options.contains("crop") && !options["crop"].is_none()) {  // None: the whole image
@@ -218,7 +219,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (callback_error) std::rethrow_exception(callback_error);
   if (!progress.is_none() && r.completed && !interrupted) {
-    const int64_t total = int64_t(r.film.width) * r.film.height * o.spp;
+    const int64_t total = resolved.samples_total;
     progress(total, total);
   }
 
@@ -248,6 +249,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   for (int k = 0; k < wv::kNumStatuses; ++k) counts[wv::kStatusNames[k]] = r.status_counts[k];
   stats["segments_by_status"] = counts;
   stats["segments"] = r.segments;
+  stats["edge_pixels"] = r.edge_pixels;
   stats["steps"] = r.total_steps;
   stats["seconds"] = seconds;
   stats["threads"] = wv::resolve_threads(o.threads);

@@ -232,6 +232,20 @@ class PathTracer {
     out.max_drift = max_drift;
   }
 
+  // Whether the camera ray through image point (x, y) (pixel units, no jitter, no filter) first hits a
+  // surface that emits: the render loop's probes for the edges of directly seen lights (render_loop.h).
+  Task<void> probe(double x, double y, RenderStats& st, Scheduler* sched, int8_t& hit) const {
+    PathFrames<M> frames;
+    if constexpr (!M::kFlat) {
+      frames.e[0] = camera_.start();
+      frames.n = frames.next = 1;
+    }
+    SegmentEnd e;
+    co_await segments_.segment(sc_.camera.position, sc_.camera.sheet, camera_.direction_at(x, y), -1, nullptr, st,
+                               frames, sched, e);
+    hit = e.status == kHit && sc_.materials[sc_.prims[e.prim].material].emits() ? 1 : 0;
+  }
+
  private:
   // The albedo feature of a non-specular surface point, in [0, 1]: a diffuse surface's albedo, an emitter's
   // colour (its texture, white without one).
@@ -274,7 +288,13 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
                       SampleScheduler<M, S>* sched) {
     return pt.sample_pixel(px, py, s, film, out, recorded, st, sched);
   };
-  return render_passes<M, S>(m, sc.camera, o, sample);
+  auto probe = [&pt](double x, double y, RenderStats& st, SampleScheduler<M, S>* sched, int8_t& hit) {
+    return pt.probe(x, y, st, sched, hit);
+  };
+  // Probing for the edges of lights is wasted where nothing emits.
+  const bool emitters = std::any_of(sc.prims.begin(), sc.prims.end(),
+                                    [&sc](const Prim& p) { return sc.materials[p.material].emits(); });
+  return render_passes<M, S>(m, sc.camera, o, sample, probe, emitters);
 }
 
 }  // namespace wv

@@ -1,7 +1,8 @@
 // The render loop: progressive passes (1, 1, 2, 4, ... samples per pixel, so an interrupted render is a
-// whole image) over chunks of pixels in parallel, progress and cancellation, and the film's accumulation of
-// what the samples add, in (pixel, sample) order whatever order they finished in; the recorded pixels'
-// segments and the segment statistics are collected on the way.
+// whole image) over chunks of pixels in parallel, then further samples in the pixels on the edge of a
+// directly seen light (found first, by probe rays on a fixed lattice), progress and cancellation, and the
+// film's accumulation of what the samples add, in (pixel, sample) order whatever order they finished in;
+// the recorded pixels' segments and the segment statistics are collected on the way.
 #pragma once
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <utility>
 #include <vector>
 
@@ -45,11 +47,57 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
     for (int c = 0; c < 3; ++c) film.albedo_normal_sum[3 * pix + c] += so.albedo_normal[c];
 }
 
-// Renders camera `cam` (its window o.crop, if set) with o.spp samples per pixel: sample(px, py, s, film, out,
-// recorded, stats, scheduler) is sample s of image pixel (px, py) as a Task (PathTracer::sample_pixel), run
-// by run_samples. A pixel's samples do not depend on the window, so windows of an image tile it exactly.
-template <class M, class S, class Sample>
-RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o, const Sample& sample) {
+// The pixels of window (X0, Y0, W, H) whose footprint straddles the edge of a directly seen light, found
+// without random numbers: probe(x, y, stats, scheduler, hit) says whether the camera ray through image
+// point (x, y) (pixel units) first hits an emitter; the probes lie on the lattice of half-pixel spacing
+// (corners, edge midpoints and centres, shared by neighbours), and a pixel whose nine lattice points
+// disagree is an edge pixel. Depends only on the scene and the pixel, so every window agrees on it.
+template <class M, class S, class Probe>
+std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int Y0, int W, int H, const Probe& probe,
+                                const std::function<bool()>& poll, bool& cancelled, RenderStats& stats) {
+  const size_t LW = size_t(2 * W + 1), LH = size_t(2 * H + 1), n = LW * LH;
+  std::vector<int8_t> hit(n, 0);
+  constexpr size_t kChunk = 256;  // lattice points per parallel task
+  std::mutex stats_mutex;
+  auto body = [&](size_t c) {
+    const size_t k0 = c * kChunk, k1 = std::min(n, k0 + kChunk);
+    RenderStats st;
+    auto make = [&](size_t k, SampleScheduler<M, S>* sched) {
+      const size_t i = k0 + k;
+      return probe(X0 + 0.5 * double(i % LW), Y0 + 0.5 * double(i / LW), st, sched, hit[i]);
+    };
+    run_samples<M, S>(m, o.batch, k1 - k0, make);
+    const std::lock_guard<std::mutex> lock(stats_mutex);
+    for (int k = 0; k < 6; ++k) stats.counts[k] += st.counts[k];
+    stats.steps += st.steps;
+    stats.segments += st.segments;
+  };
+  cancelled = !parallel_for((n + kChunk - 1) / kChunk, o.threads, 1, body, poll);
+  std::vector<size_t> edges;
+  if (cancelled) return edges;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      int any = 0, all = 1;
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+          const int8_t h = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
+          any |= h;
+          all &= h;
+        }
+      if (any && !all) edges.push_back(size_t(y) * W + x);
+    }
+  return edges;
+}
+
+// Renders camera `cam` (its window o.crop, if set) with o.spp samples per pixel, and o.edge_samples times as
+// many in the pixels on a directly seen light's edge (edge_pixels, probed before any sample where
+// probe_edges, i.e. something emits: the count does not depend on what the samples find, so every pixel's
+// mean stays unbiased): sample(px, py, s, film, out, recorded, stats, scheduler) is sample s of image pixel
+// (px, py) as a Task (PathTracer::sample_pixel), run by run_samples. A pixel's samples do not depend on the
+// window, so windows of an image tile it exactly.
+template <class M, class S, class Sample, class Probe>
+RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o, const Sample& sample,
+                           const Probe& probe, bool probe_edges) {
   RenderResult out;
   const bool whole = o.crop[2] <= 0 || o.crop[3] <= 0;
   const int X0 = whole ? 0 : o.crop[0], Y0 = whole ? 0 : o.crop[1];
@@ -69,15 +117,9 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
     }
   }
 
-  // Progressive passes (1, 1, 2, 4, ... samples) so an interrupted render is a whole image.
-  std::vector<std::pair<int, int>> passes;
-  for (int s0 = 0, n = 1; s0 < o.spp; s0 += n, n = std::min(2 * n, 64))
-    passes.emplace_back(s0, std::min(o.spp, s0 + n));
-  const int64_t total = int64_t(W) * H * o.spp;
+  const size_t npix = size_t(W) * H;
   std::atomic<int64_t> done{0};
-  std::atomic<int64_t> counts[6];
-  for (auto& c : counts) c = 0;
-  std::atomic<int64_t> steps{0}, segments{0};
+  int64_t total = int64_t(npix) * o.spp;
   // A stop is for good: poll can be asked for a stop after a pass's last chunk has started, when
   // parallel_for reports the pass complete, and the next pass must not run.
   bool stopped = false;
@@ -86,24 +128,56 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
     return !stopped;
   })
                                             : std::function<bool()>();
-  const size_t npix = size_t(W) * H;
+  std::vector<size_t> edges;
+  RenderStats probes;  // the probe rays' segments, counted with the samples'
+  if (o.edge_samples > 1 && probe_edges) {
+    bool cancelled = false;
+    edges = edge_pixels<M, S>(m, o, X0, Y0, W, H, probe, poll, cancelled, probes);
+    if (cancelled || stopped) {
+      out.completed = false;
+      return out;
+    }
+    total += int64_t(edges.size()) * o.spp * (o.edge_samples - 1);
+  }
+  out.edge_pixels = int64_t(edges.size());
+
+  // Progressive passes (1, 1, 2, 4, ... samples) so an interrupted render is a whole image; then the edge
+  // pixels' further samples, doubling.
+  struct Pass {
+    int s0, s1;
+    bool edges_only;
+  };
+  std::vector<Pass> passes;
+  for (int s0 = 0, n = 1; s0 < o.spp; s0 += n, n = std::min(2 * n, 64))
+    passes.push_back({s0, std::min(o.spp, s0 + n), false});
+  if (!edges.empty()) {
+    const int64_t last = int64_t(o.spp) * o.edge_samples;
+    for (int64_t s0 = o.spp, n = o.spp; s0 < last; s0 += n, n = std::min<int64_t>(2 * n, 64))
+      passes.push_back({int(s0), int(std::min(last, s0 + n)), true});
+  }
+  std::atomic<int64_t> counts[6];
+  for (int k = 0; k < 6; ++k) counts[k] = probes.counts[k];
+  std::atomic<int64_t> steps{probes.steps}, segments{probes.segments};
   constexpr size_t kChunk = 64;  // pixels per parallel task
-  const size_t nchunks = (npix + kChunk - 1) / kChunk;
   for (const auto& pass : passes) {
+    const size_t nwork = pass.edges_only ? edges.size() : npix;
+    const size_t nchunks = (nwork + kChunk - 1) / kChunk;
     auto body = [&](size_t c) {
-      const size_t p0 = c * kChunk, p1 = std::min(npix, p0 + kChunk);
-      const size_t ns = size_t(pass.second - pass.first), njobs = (p1 - p0) * ns;
+      const size_t p0 = c * kChunk, p1 = std::min(nwork, p0 + kChunk);
+      const size_t ns = size_t(pass.s1 - pass.s0), njobs = (p1 - p0) * ns;
+      auto pixel = [&](size_t k) { return pass.edges_only ? edges[p0 + k / ns] : p0 + k / ns; };
       std::vector<SampleOut> outs(njobs);
       RenderStats st;
       auto make = [&](size_t k, SampleScheduler<M, S>* sched) {
-        const size_t pix = p0 + k / ns;
-        return sample(X0 + int(pix % W), Y0 + int(pix / W), pass.first + int(k % ns), out.film, outs[k],
-                      slot[pix] >= 0, st, sched);
+        const size_t pix = pixel(k);
+        // Only the first spp samples of a recorded pixel are recorded, with or without edge samples.
+        return sample(X0 + int(pix % W), Y0 + int(pix / W), pass.s0 + int(k % ns), out.film, outs[k],
+                      slot[pix] >= 0 && !pass.edges_only, st, sched);
       };
       run_samples<M, S>(m, o.batch, njobs, make);
       // Summed in (pixel, sample) order, whatever order the samples finished in.
       for (size_t k = 0; k < njobs; ++k) {
-        const size_t pix = p0 + k / ns;
+        const size_t pix = pixel(k);
         accumulate(out.film, pix, outs[k]);
         if (slot[pix] >= 0)
           for (auto& seg : outs[k].rec) rec[slot[pix]].push_back(std::move(seg));

@@ -34,6 +34,9 @@ struct RenderOptions {
   int light_connection = kLensConnection;
   int lens_images = 2;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
   int pixel_sampler = kSobolPixels;
+  // Pixels on the edge of a directly seen light (render_loop.h: edge_pixels) get edge_samples x spp samples:
+  // the lamp's edge inside a pixel (a lensed lamp's thin arcs) is the noise no light connection touches.
+  int edge_samples = 1;
   int filter = kBoxFilter;     // pixel reconstruction filter (film/pixel_filter.h), by importance sampling
   double filter_radius = 0.5;  // its support's half-width in pixels
   bool batch = true;       // curved space: step the geodesics of many samples together in SIMD lanes
@@ -70,6 +73,7 @@ struct RenderResult {
   int64_t status_counts[6] = {0, 0, 0, 0, 0, 0};  // geodesic segments by RayStatus
   int64_t total_steps = 0;
   int64_t segments = 0;
+  int64_t edge_pixels = 0;  // pixels given edge_samples x spp samples
   int num_columns = 0;
   std::vector<RecordedSegment> recorded;
 };

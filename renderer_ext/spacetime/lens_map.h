@@ -220,7 +220,14 @@ class LensMap {
       const double f = peval(p, u);
       if (f > 0.0) lo = u; else hi = u;
       const double d = pderiv(p, u);
-      double next = d != 0.0 ? u - f / d : 0.5 * (lo + hi);
+      // Converged when Newton's own step is at the rounding level (near the root f is rounding noise, and
+      // a step that rounds back onto u would otherwise be taken for one leaving the bracket).
+      const double step = d != 0.0 ? f / d : NAN;
+      if (std::fabs(step) <= 1e-15 * u) {
+        ut = std::min(hi, std::max(lo, u - step));
+        return true;
+      }
+      double next = d != 0.0 ? u - step : 0.5 * (lo + hi);
       if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
       if (std::fabs(next - u) <= 1e-15 * u || hi - lo <= 1e-15 * hi) {
         ut = next;
@@ -327,7 +334,9 @@ class LensMap {
     double ut_v = 0.0;
     bool through = false;
     const bool turns = turning(p, b.v, ut_v, through);
-    if (case_ == kThroat ? !(turns && through) : (turns && through)) return false;
+    // Through the throat: what a throat ray must do, and what a same-sheet ray may do only after reaching B
+    // (an inward ray that meets B first).
+    if (case_ == kThroat ? !(turns && through) : (turns && through && after_turn)) return false;
     if (after_turn && !turns) return false;
     D1 phi;
     double root_p_b;  // sqrt(P(uB))

@@ -1,0 +1,84 @@
+"""More samples on the edges of directly seen lights (``render(edge_samples=)``, integrators/render_loop.h).
+
+The edge pixels are chosen by probe rays before any sample is drawn, so a pixel's sample count does not
+depend on what its samples find. The tests check the two facts that make the estimate unbiased and
+deterministic: an edge pixel is exactly the pixel of a render at ``spp x edge_samples`` and every other pixel
+exactly that of the plain render (bit for bit), for any window and thread count; and that the probes find
+the pixels a lamp's edge crosses.
+"""
+
+import numpy as np
+import pytest
+
+import warpviz as wv
+from native_scenes import metric, room
+
+
+
+def _lit_room(metric_spec, size):
+    """The test room with the camera looking up at its ceiling lamp."""
+    scene = room(metric_spec, size=size, spheres=False)
+    scene["camera"]["look_at"] = [0, 0, 6]
+    return scene
+
+
+CURVED = _lit_room(metric("schwarzschild", 0.4), (20, 15))
+FLAT = _lit_room(metric(), (32, 24))
+
+
+@pytest.mark.parametrize("scene", [CURVED, FLAT], ids=["schwarzschild", "flat"])
+def test_edge_pixels_are_the_longer_render_and_the_rest_the_plain_one_bit_for_bit(scene):
+    more = wv.render(scene, spp=4, seed=5, edge_samples=4)
+    plain = wv.render(scene, spp=4, seed=5, edge_samples=1)
+    long = wv.render(scene, spp=16, seed=5, edge_samples=1)
+    edge = more.aovs["samples"] == 16
+    assert 0 < edge.sum() == more.stats["edge_pixels"] < 0.2 * edge.size
+    assert np.all(more.aovs["samples"][~edge] == 4)
+    assert more.stats["samples"] == int(more.aovs["samples"].sum()) == 4 * edge.size + 12 * int(edge.sum())
+    np.testing.assert_array_equal(more.rgb[edge], long.rgb[edge])
+    np.testing.assert_array_equal(more.rgb[~edge], plain.rgb[~edge])
+    assert plain.stats["edge_pixels"] == 0
+
+
+def test_edge_pixels_do_not_depend_on_the_window_or_the_threads():
+    whole = wv.render(CURVED, spp=2, seed=1, threads=1)
+    tiles = np.zeros_like(whole.rgb)
+    counts = np.zeros_like(whole.aovs["samples"])
+    for x0, y0, w, h in [(0, 0, 7, 15), (7, 0, 13, 8), (7, 8, 13, 7)]:
+        tile = wv.render(CURVED, spp=2, seed=1, threads=2, crop=(x0, y0, w, h))
+        tiles[y0:y0 + h, x0:x0 + w] = tile.rgb
+        counts[y0:y0 + h, x0:x0 + w] = tile.aovs["samples"]
+    np.testing.assert_array_equal(tiles, whole.rgb)
+    np.testing.assert_array_equal(counts, whole.aovs["samples"])
+
+
+def test_the_probes_find_the_pixels_the_lamps_edge_crosses():
+    """In the flat room the camera sees the ceiling lamp with straight edges: a pixel it covers by a
+    quarter to three quarters always has probes on both sides of the edge (a half-plane cut that misses
+    all nine probes of a pixel holds at most ~1/8 of it), and a pixel it covers fully or not at all none."""
+    edges = wv.render(FLAT, spp=1, max_depth=1).aovs["samples"] > 1
+    cover = wv.render(FLAT, spp=1024, seed=3, max_depth=1, edge_samples=1).rgb[..., 0] / 12.0
+    half = (cover > 0.25) & (cover < 0.75)
+    assert half.sum() >= 4 and np.all(edges[half])
+    assert not np.any(edges[(cover == 0.0) | (cover == 1.0)])
+    assert edges.sum() >= 8
+
+
+def test_a_scene_without_emitters_gets_no_edge_samples():
+    scene = dict(FLAT, materials=[m for m in FLAT["materials"] if m["type"] != "emissive"] + [{"type": "diffuse", "texture": 3}],
+                 environment={"color": [1, 1, 1]})
+    img = wv.render(scene, spp=2)
+    assert img.stats["edge_pixels"] == 0 and np.all(img.aovs["samples"] == 2)
+
+
+@pytest.mark.parametrize(("value", "message"), [(0, "edge_samples must be a positive integer"),
+                                                (65, "edge_samples must be 1-64"), (2.0, "positive integer"),
+                                                (True, "positive integer")])
+def test_bad_edge_samples_are_named(value, message):
+    with pytest.raises(ValueError, match=message):
+        wv.render(FLAT, spp=1, edge_samples=value)
+
+
+def test_spp_times_edge_samples_must_fit_the_sample_index():
+    with pytest.raises(ValueError, match="spp x edge_samples"):
+        wv.render(FLAT, spp=2**30, edge_samples=4)
