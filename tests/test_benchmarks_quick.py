@@ -213,3 +213,13 @@ def test_denoise_benchmark_quick_mode(tmp_path):
         assert r["noisy_rel_mse_equal_time"] < r["noisy_rel_mse"]
         assert r["gain_equal_time"] == pytest.approx(r["noisy_rel_mse_equal_time"] / r["denoised_rel_mse"])
     assert rows[1]["noisy_rel_mse"] < rows[0]["noisy_rel_mse"]  # more samples, less noise
+
+
+def test_edge_samples_benchmark_quick_mode(tmp_path):
+    import bench_edge_samples
+
+    rows = bench_edge_samples.main(["--quick", "--scenes", "fig04", "--out", str(tmp_path)])
+    assert [r["edge_samples"] for r in rows] == [1, 2, 4, 8] == [int(r["edge_samples"]) for r in
+                                                                  read_csv(tmp_path / "edge_samples.csv")]
+    assert rows[0]["edge_pixels"] == 0 < rows[-1]["edge_pixels"] and rows[0]["over_off"] == 1.0
+    assert all(r["rel_mse"] > 0 and r["cpu_s"] > 0 for r in rows)

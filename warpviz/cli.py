@@ -737,13 +737,14 @@ BENCH_SUITES = {
     "light-connection": "bench_light_connection.py",
     "mitsuba-cornell": "bench_mitsuba_cornell.py",
     "denoise": "bench_denoise.py",
+    "edge-samples": "bench_edge_samples.py",
 }
 
 
 @app.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
 def bench(ctx: typer.Context) -> None:
     """Run a benchmark: `warpviz bench SUITE OPTIONS`, SUITE one of geodesics, work-precision, render, skips,
-    light-connection, mitsuba-cornell, denoise.
+    light-connection, mitsuba-cornell, denoise, edge-samples.
 
     Without a SUITE it runs the far-observer geodesic benchmark (benchmarks/bench_geodesics.py); every
     suite takes its own options after the name, e.g. `warpviz bench --size 32` or

@@ -1,0 +1,86 @@
+"""What the edge samples are worth: efficiency against ``edge_samples`` in scenes where the camera sees
+emitters directly.
+
+Each scene is rendered at ``--size`` and ``--spp`` with ``edge_samples`` = 1 (off), 2, 4 and 8 (the
+default): the pixels whose footprint straddles the edge of a surface that emits (found by probe rays on
+the half-pixel lattice before any sample) get that many times spp samples. Efficiency = 1 / (relative MSE
+x CPU time) against a reference at ``--ref-spp`` in two independent halves (their difference estimates the
+reference's own noise, which is subtracted); relative MSE = mean squared error over pixels and channels
+over the squared mean of the reference. ``over_off`` is each row's efficiency over ``edge_samples=1``.
+
+    python benchmarks/bench_edge_samples.py           # fig02, fig04, fig07 at 48x36: ~5 minutes on one core
+    python benchmarks/bench_edge_samples.py --quick   # seconds
+    warpviz bench edge-samples --scenes fig07
+
+Writes ``edge_samples.csv`` (one row per scene and setting) to ``--out`` (default benchmarks/results) and
+prints a table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+import warpviz as wv
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import RESULTS, machine_line, timed, write_csv  # noqa: E402
+
+SETTINGS = (1, 2, 4, 8)
+
+
+def _render(scene: str, size, *, spp: int, seed: int, edge_samples: int):
+    img, cpu, _ = timed(lambda: wv.render(scene, width=size[0], height=size[1], spp=spp, seed=seed, threads=1,
+                                          edge_samples=edge_samples))
+    return img, cpu
+
+
+def measure(scene: str, *, size, spp: int, ref_spp: int, seeds: int) -> list[dict]:
+    """One row per setting of ``edge_samples`` for ``scene``."""
+    a, _ = _render(scene, size, spp=ref_spp // 2, seed=100_001, edge_samples=8)
+    b, _ = _render(scene, size, spp=ref_spp // 2, seed=200_003, edge_samples=8)
+    a, b = a.rgb.astype(np.float64), b.rgb.astype(np.float64)
+    ref, noise = 0.5 * (a + b), (a - b) ** 2 / 4.0
+    scale = float(ref.mean()) ** 2
+    rows = []
+    for es in SETTINGS:
+        mse, cpu = [], []
+        for seed in range(seeds):
+            img, t = _render(scene, size, spp=spp, seed=seed, edge_samples=es)
+            mse.append(max(float(((img.rgb.astype(np.float64) - ref) ** 2 - noise).mean()), 1e-30) / scale)
+            cpu.append(t)
+        rel, t = float(np.mean(mse)), float(np.mean(cpu))
+        rows.append({"scene": scene, "edge_samples": es, "edge_pixels": int(img.stats["edge_pixels"]),
+                     "width": size[0], "height": size[1], "spp": spp, "reference_spp": ref_spp, "cpu_s": t,
+                     "rel_mse": rel, "efficiency": 1.0 / (rel * t)})  # fmt: skip
+    for r in rows:
+        r["over_off"] = r["efficiency"] / rows[0]["efficiency"]
+    return rows
+
+
+def main(argv=None) -> list[dict]:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--quick", action="store_true", help="tiny frames and references (seconds; for tests)")
+    p.add_argument("--scenes", default="fig02,fig04,fig07", help="comma-separated shipped scenes")
+    p.add_argument("--out", type=Path, default=RESULTS)
+    args = p.parse_args(argv)
+    cfg = ({"size": (12, 9), "spp": 2, "ref_spp": 16, "seeds": 1} if args.quick else
+           {"size": (48, 36), "spp": 16, "ref_spp": 1024, "seeds": 3})  # fmt: skip
+    print(machine_line(threads=1))
+    rows = []
+    for scene in (s.strip() for s in args.scenes.split(",") if s.strip()):
+        rows += measure(scene, **cfg)
+    path = write_csv(args.out / "edge_samples.csv", rows)
+    print(f"{'scene':8s} {'edge':>4s} {'pixels':>6s} {'cpu s':>7s} {'rel MSE':>9s} {'eff':>9s} {'over off':>8s}")
+    for r in rows:
+        print(f"{r['scene']:8s} {r['edge_samples']:4d} {r['edge_pixels']:6d} {r['cpu_s']:7.3f} {r['rel_mse']:9.5f} "
+              f"{r['efficiency']:9.1f} {r['over_off']:8.2f}")
+    print(f"wrote {path}")
+    return rows
+
+
+if __name__ == "__main__":
+    main()
