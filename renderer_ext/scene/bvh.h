@@ -44,6 +44,8 @@ class Bvh {
       if (nd.count > 0) {
         for (int32_t k = nd.first; k < nd.first + nd.count; ++k) {
           double t;
+          // (a small scene's single leaf: each primitive's box first; bvh.cpp, kLinearScene)
+          if (nd.count > 2 && !slab(prim_boxes_[order_[k]], o, inv, tmin, tmax)) continue;
           if (accept(order_[k], o, d, tmin, tmax, t)) {
             tmax = t;
             hit.prim = order_[k];
