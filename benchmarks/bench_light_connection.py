@@ -15,7 +15,10 @@ rendered with
 * ``brute, jitter`` the same with jitter,
 * ``seed``          the seed paper's method: brute force with its fixed-step RK4, jitter, spp everywhere,
 
-and the same room in flat space (``--flat``, the default connection, which is exact there).
+and the same room in flat space (``--flat``, the default connection, which is exact there). The machine's
+speed drifts between the estimators' runs, so the lens connection's efficiency over brute force is also
+measured with their times taken alternately (five rounds of lens, brute; ``over_brute_interleaved_min``
+and ``_median``, from the rounds' largest and median time ratio).
 
 The reference of each room is the default estimator at ``--ref-spp`` samples in two independent halves;
 their difference estimates the reference's own noise, which is subtracted from every MSE. The relative MSE
@@ -103,14 +106,27 @@ def measure(room: str, cfg: dict, estimator: str, ref, noise, mask, *, max_depth
             "emitter_pixels": int((~mask).sum())}  # fmt: skip
 
 
+def interleaved_time_ratio(room: str, cfg: dict, a: str, b: str, *, rounds: int) -> list[float]:
+    """CPU time of estimator a over that of b, measured as A, B, A, B, ... (``rounds`` pairs, each over
+    cfg['seeds'] renders), so that a machine whose speed drifts affects both alike: one ratio per round."""
+    ratios = []
+    for _ in range(rounds):
+        t = {}
+        for est in (a, b):
+            t[est] = sum(_render(room, cfg, spp=cfg["spp"], seed=seed, **ESTIMATORS[est])[1]
+                         for seed in range(cfg["seeds"]))  # fmt: skip
+        ratios.append(t[a] / t[b])
+    return ratios
+
+
 def main(argv=None) -> list[dict]:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true", help="tiny frames and references (seconds; for tests)")
     p.add_argument("--out", type=Path, default=RESULTS)
     p.add_argument("--rooms", default=",".join(ROOMS), help="comma-separated subset of " + ", ".join(ROOMS))
     args = p.parse_args(argv)
-    cfg = ({"size": (12, 9), "spp": 4, "ref_spp": 32, "seeds": 1} if args.quick else
-           {"size": (48, 36), "spp": 16, "ref_spp": 1024, "seeds": 3})  # fmt: skip
+    cfg = ({"size": (12, 9), "spp": 4, "ref_spp": 32, "seeds": 1, "rounds": 2} if args.quick else
+           {"size": (48, 36), "spp": 16, "ref_spp": 1024, "seeds": 3, "rounds": 5})  # fmt: skip
     print(machine_line(threads=1))
     rows = []
     rooms = [r.strip() for r in args.rooms.split(",") if r.strip()]
@@ -121,6 +137,15 @@ def main(argv=None) -> list[dict]:
         estimators = ["lens"] if ROOMS[room] else list(ESTIMATORS)
         for est in estimators:
             rows.append(measure(room, cfg, est, ref, noise, mask))
+        if not ROOMS[room]:
+            # The lens connection against brute force with their times taken alternately (A, B, A, B):
+            # efficiency ratio = MSE ratio / time ratio, at the rounds' min, median and max time ratio.
+            ratios = np.array(interleaved_time_ratio(room, cfg, "lens", "brute", rounds=cfg["rounds"]))
+            lens, brute = rows[-len(estimators)], rows[-len(estimators) + estimators.index("brute")]
+            for which, mse in (("", "rel_mse"), ("_no_emitter_pixels", "rel_mse_no_emitter_pixels")):
+                gain = brute[mse] / lens[mse]
+                lens[f"over_brute{which}_interleaved_min"] = gain / float(ratios.max())
+                lens[f"over_brute{which}_interleaved_median"] = gain / float(np.median(ratios))
         # direct light alone
         dref, dnoise, dmask = reference(room, cfg, max_depth=2)
         for est in ["lens"] if ROOMS[room] else ["lens", "lens, no edge", "lens, jitter", "aimed, jitter", "brute"]:
