@@ -26,15 +26,17 @@ CURVED = _lit_room(metric("schwarzschild", 0.4), (20, 15))
 FLAT = _lit_room(metric(), (32, 24))
 
 
-@pytest.mark.parametrize("scene", [CURVED, FLAT], ids=["schwarzschild", "flat"])
-def test_edge_pixels_are_the_longer_render_and_the_rest_the_plain_one_bit_for_bit(scene):
-    more = wv.render(scene, spp=4, seed=5, edge_samples=4)
-    plain = wv.render(scene, spp=4, seed=5, edge_samples=1)
-    long = wv.render(scene, spp=16, seed=5, edge_samples=1)
-    edge = more.aovs["samples"] == 16
+@pytest.mark.parametrize(("scene", "spp", "times"), [(CURVED, 4, 4), (FLAT, 4, 4), (FLAT, 80, 2)],
+                         ids=["schwarzschild", "flat", "flat-passes-of-64"])
+def test_edge_pixels_are_the_longer_render_and_the_rest_the_plain_one_bit_for_bit(scene, spp, times):
+    more = wv.render(scene, spp=spp, seed=5, edge_samples=times)
+    plain = wv.render(scene, spp=spp, seed=5, edge_samples=1)
+    long = wv.render(scene, spp=spp * times, seed=5, edge_samples=1)
+    edge = more.aovs["samples"] == spp * times
     assert 0 < edge.sum() == more.stats["edge_pixels"] < 0.2 * edge.size
-    assert np.all(more.aovs["samples"][~edge] == 4)
-    assert more.stats["samples"] == int(more.aovs["samples"].sum()) == 4 * edge.size + 12 * int(edge.sum())
+    assert np.all(more.aovs["samples"][~edge] == spp)
+    extra = spp * (times - 1) * int(edge.sum())
+    assert more.stats["samples"] == int(more.aovs["samples"].sum()) == spp * edge.size + extra
     np.testing.assert_array_equal(more.rgb[edge], long.rgb[edge])
     np.testing.assert_array_equal(more.rgb[~edge], plain.rgb[~edge])
     assert plain.stats["edge_pixels"] == 0

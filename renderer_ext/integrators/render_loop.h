@@ -152,7 +152,7 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
     passes.push_back({s0, std::min(o.spp, s0 + n), false});
   if (!edges.empty()) {
     const int64_t last = int64_t(o.spp) * o.edge_samples;
-    for (int64_t s0 = o.spp, n = o.spp; s0 < last; s0 += n, n = std::min<int64_t>(2 * n, 64))
+    for (int64_t s0 = o.spp, n = std::min(o.spp, 64); s0 < last; s0 += n, n = std::min<int64_t>(2 * n, 64))
       passes.push_back({int(s0), int(std::min(last, s0 + n)), true});
   }
   std::atomic<int64_t> counts[6];
