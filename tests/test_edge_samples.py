@@ -67,8 +67,8 @@ def test_the_probes_find_the_pixels_the_lamps_edge_crosses():
 
 
 def test_a_scene_without_emitters_gets_no_edge_samples():
-    scene = dict(FLAT, materials=[m for m in FLAT["materials"] if m["type"] != "emissive"] + [{"type": "diffuse", "texture": 3}],
-                 environment={"color": [1, 1, 1]})
+    materials = [{"type": "diffuse", "texture": 3} if m["type"] == "emissive" else m for m in FLAT["materials"]]
+    scene = dict(FLAT, materials=materials, environment={"color": [1, 1, 1]})
     img = wv.render(scene, spp=2)
     assert img.stats["edge_pixels"] == 0 and np.all(img.aovs["samples"] == 2)
 

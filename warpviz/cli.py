@@ -46,7 +46,8 @@ from rich.text import Text
 
 import warpviz
 from warpviz.io import written_by_warpviz
-from warpviz.limits import EXPOSURE_RANGE, MAX_EDGE_SAMPLES, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES, exposure_stops
+from warpviz.limits import (EXPOSURE_RANGE, MAX_EDGE_SAMPLES, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES,
+                            exposure_stops)
 from warpviz.render.denoise import DenoiserMissing
 from warpviz.render.false_colour import FALSE_COLOUR_STYLES
 from warpviz.render.render import OPTIONAL_AOVS

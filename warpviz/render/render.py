@@ -254,8 +254,8 @@ def render(
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
                  "stepper": stepper, "tol": tol, "aim_lights": aim_lights,
                  "light_connection": light_connection, "lens_images": lens_images,
-                 "pixel_sampler": pixel_sampler, "edge_samples": edge_samples, "filter": filter, "filter_radius": filter_radius,
-                 "light_margin": light_margin, "pilot_tol": pilot_tol,
+                 "pixel_sampler": pixel_sampler, "edge_samples": edge_samples, "filter": filter,
+                 "filter_radius": filter_radius, "light_margin": light_margin, "pilot_tol": pilot_tol,
                  "batch": batch}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:
