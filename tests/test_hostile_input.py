@@ -451,7 +451,11 @@ def _render_until_signalled(tmp_path: Path, sig: int) -> tuple[subprocess.Comple
     out = tmp_path / "partial.exr"
     cmd = [sys.executable, "-c", _ANNOUNCING_CLI, "render", "fig07", "--size", "48x36", "--spp", "100000",
            "--threads", "1", "-o", str(out)]  # fmt: skip
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # Ctrl-C's default action, as in a terminal: a test run started as a background job of a
+    # non-interactive shell has SIGINT ignored, the child would inherit that, and Python then never
+    # installs its KeyboardInterrupt handler (this test hung there, not in warpviz).
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         first = proc.stderr.readline()
         assert first.strip() == "rendering", first + proc.stderr.read()
