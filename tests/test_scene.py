@@ -295,6 +295,10 @@ BAD = [
      r"render\.paper\.spp must be in \[1, 2147483647\], got 0"),
     ("sky of the other sheet without a wormhole", "[textures.tiles]", "[environment_other]\n\n[textures.tiles]",
      "[environment_other]", 1, r"\[environment_other\] is the sky of a wormhole's other sheet"),
+    ("marked grid line beyond the last", "cells = [4, 4]", "cells = [4, 4]\nmark_u = { line = 5, color = [1, 0, 0] }",
+     "5,", 1, r"textures\.tiles\.mark_u\.line must be in \[0, 4\], got 5"),
+    ("marked grid line without a colour", "cells = [4, 4]", "cells = [4, 4]\nmark_v = { line = 2 }",
+     "mark_v", 1, r"missing the required key 'color'"),
 ]  # fmt: skip
 
 

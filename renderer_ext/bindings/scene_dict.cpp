@@ -209,6 +209,10 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
       tex.c = vec3(t, "line_v", w);
       pair(t, "cells", w, tex.su, tex.sv);
       tex.width = number(t, "width", w);
+      tex.mark_u = int(number(t, "mark_u", w));
+      tex.mark_v = int(number(t, "mark_v", w));
+      tex.mark_u_color = vec3(t, "mark_u_color", w);
+      tex.mark_v_color = vec3(t, "mark_v_color", w);
     } else if (ty == "image") {
       tex.kind = TextureKind::kImage;
       image_into(t, "data", w, tex);

@@ -15,6 +15,8 @@ struct Texture {
   V3 a{1, 1, 1}, b{0, 0, 0}, c{0, 0, 0};  // constant: a; checker: a, b; grid: base a, u-lines b, v-lines c
   double su = 1, sv = 1;                   // checker: checks; grid: cells; image: repeats
   double width = 0.0;                      // grid line width (fraction of a cell)
+  int mark_u = -1, mark_v = -1;            // grid: the line of constant u (v) number k = 0 .. cells drawn in
+  V3 mark_u_color{0, 0, 0}, mark_v_color{0, 0, 0};  // its own colour (-1: none)
   int w = 0, h = 0;                        // image size
   std::vector<float> rgb;                  // image, row 0 at v = 1
 
@@ -28,8 +30,11 @@ struct Texture {
       case TextureKind::kGrid: {
         const double fu = u * su - std::floor(u * su), fv = v * sv - std::floor(v * sv);
         const double hw = 0.5 * width;
-        if (fv < hw || fv > 1.0 - hw) return c;  // horizontal line: constant v
-        if (fu < hw || fu > 1.0 - hw) return b;  // vertical line: constant u
+        // Line k of constant u lies at u = k / su; the nearest one's number is round(u su).
+        if (fv < hw || fv > 1.0 - hw)  // horizontal line: constant v
+          return long(std::lround(v * sv)) == mark_v ? mark_v_color : c;
+        if (fu < hw || fu > 1.0 - hw)  // vertical line: constant u
+          return long(std::lround(u * su)) == mark_u ? mark_u_color : b;
         return a;
       }
       case TextureKind::kImage: return image(u * su, v * sv);

@@ -64,7 +64,7 @@ def _load_image(r: _Reader, kp: tuple, file: Path, *, srgb: bool | None = None) 
 _TEXTURE_KEYS = {
     "constant": ("color",),
     "checker": ("color_a", "color_b", "scale"),
-    "grid": ("base", "line_u", "line_v", "cells", "width"),
+    "grid": ("base", "line_u", "line_v", "cells", "width", "mark_u", "mark_v"),
     "image": ("file", "repeat", "srgb"),
     "swatch": ("cells", "cell_px", "border", "seed", "repeat"),
     "earth-like": ("resolution", "seed", "ocean", "repeat"),
@@ -87,6 +87,22 @@ def _textures(r: _Reader, tbl: Any) -> tuple[list, dict]:
     return out, index
 
 
+def _marked_lines(r: _Reader, tp: tuple, t: dict) -> dict:
+    """A grid's marked lines: ``mark_u = { line = K, color = [r, g, b] }`` draws line K (0 .. cells) of
+    constant u in its own colour, likewise ``mark_v``; as the native keys mark_u(_color), mark_v(_color)."""
+    out = {}
+    cells = r.numbers(t, tp, "cells", 2, _TEX["grid"]["cells"], integer=True, lo=1)
+    for axis, n in (("u", cells[0]), ("v", cells[1])):
+        key = f"mark_{axis}"
+        if key not in t:
+            continue
+        kp = tp + (key,)
+        m = r.table(kp, t[key], ("line", "color"), required=("line", "color"))
+        out[key] = r.integer(m, kp, "line", lo=0, hi=n)
+        out[f"{key}_color"] = r.color(m, kp, "color")
+    return out
+
+
 def _texture(r: _Reader, tp: tuple, kind: str, t: dict) -> dict:
     if kind == "constant":
         return {"type": "constant", "color": r.color(t, tp, "color")}
@@ -102,6 +118,7 @@ def _texture(r: _Reader, tp: tuple, kind: str, t: dict) -> dict:
             "line_u": r.color(t, tp, "line_u", [0.0, 0.0, 0.0]), "line_v": r.color(t, tp, "line_v", [0.0, 0.0, 0.0]),
             "cells": r.numbers(t, tp, "cells", 2, _TEX["grid"]["cells"], integer=True, lo=1),
             "width": r.real(t, tp, "width", _TEX["grid"]["width"], lo=0.0, hi=1.0),
+            **_marked_lines(r, tp, t),
         }  # fmt: skip
     repeat = r.numbers(t, tp, "repeat", 2, _TEX["image"]["repeat"], lo=0.0, lo_open=True)
     if kind == "image":

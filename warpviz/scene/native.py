@@ -72,7 +72,9 @@ SCHEMA: dict[str, Any] = {
     "textures": {
         "constant": {"color": REQUIRED},
         "checker": {"color_a": REQUIRED, "color_b": REQUIRED, "scale": (8.0, 8.0)},
-        "grid": {"base": REQUIRED, "line_u": REQUIRED, "line_v": REQUIRED, "cells": (10, 10), "width": 0.05},
+        "grid": {"base": REQUIRED, "line_u": REQUIRED, "line_v": REQUIRED, "cells": (10, 10), "width": 0.05,
+                 # one line of constant u (v), number 0 .. cells, in a colour of its own; -1: none
+                 "mark_u": -1, "mark_v": -1, "mark_u_color": (0.0, 0.0, 0.0), "mark_v_color": (0.0, 0.0, 0.0)},
         "image": {"data": REQUIRED, "repeat": (1.0, 1.0)},
     },
     "materials": {
@@ -295,7 +297,10 @@ def _texture(t: Mapping, w: str) -> dict:
     if kind == "grid":
         return {"type": kind, "base": _vec3(t, "base", w, kind, table=tb), "line_u": _vec3(t, "line_u", w, kind, table=tb),
                 "line_v": _vec3(t, "line_v", w, kind, table=tb), "cells": _pair(t, "cells", w, kind, table=tb),
-                "width": _number(t, "width", w, kind, table=tb)}  # fmt: skip
+                "width": _number(t, "width", w, kind, table=tb), "mark_u": _integral(t, "mark_u", w, kind, table=tb),
+                "mark_v": _integral(t, "mark_v", w, kind, table=tb),
+                "mark_u_color": _vec3(t, "mark_u_color", w, kind, table=tb),
+                "mark_v_color": _vec3(t, "mark_v_color", w, kind, table=tb)}  # fmt: skip
     return {"type": kind, "data": _image(_get(t, "data", w, REQUIRED), f"{w}.data"),
             "repeat": _pair(t, "repeat", w, kind, table=tb)}
 
