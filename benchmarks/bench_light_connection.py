@@ -1,7 +1,7 @@
 """Efficiency of the light connections in the lit rooms around black holes and wormholes.
 
 Efficiency = 1 / (relative MSE x CPU time) against a converged reference, for the shipped rooms fig07
-(Schwarzschild), fig10d (Kerr a = 0.9), fig12 and fig13 (Ellis, the room side and the space side), each
+(Schwarzschild), fig10d (Kerr a = 0.9), fig12 and fig13 (Ellis, the space side and the room side), each
 rendered with
 
 * ``lens``          the defaults: the lens-aware connection (the exact lens map where the metric is static

@@ -73,8 +73,8 @@ def test_einstein_ring_of_fig04():
     assert set(img.rays.status_names[x == 40]) == {"horizon"}  # the README's old example pixel fell in
 
 
-def test_wormhole_window_of_fig12():
-    """From fig12's camera (areal radius R = |(0, -24, 3)|) rays within asin(b0 / R) of the centre pass the
+def test_wormhole_window_of_fig13():
+    """From fig13's camera (areal radius R = |(0, -24, 3)|) rays within asin(b0 / R) of the centre pass the
     throat (b < b0) onto the other sheet."""
     ellis = wv.EllisWormhole(throat=8.0)
     position = np.array([0.0, -24.0, 3.0])

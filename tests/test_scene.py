@@ -146,7 +146,7 @@ def test_scene_values_reach_the_native_dict():
 
 
 def test_wormhole_flat_keeps_the_camera_sheet():
-    room_side, space_side = load_scene("fig12"), load_scene("fig13")
+    room_side, space_side = load_scene("fig13"), load_scene("fig12")
     both = room_side.native()
     assert {s["sheet"] for s in both["shapes"]} == {1, -1} and "environment_other" in both
     flat = room_side.native(flat=True)

@@ -74,7 +74,7 @@ def press_key(plotter, key):
 def test_title_names_the_metric_and_its_parameters():
     assert view_title("fig10d", wv.Kerr(mass=2.5, spin=0.9)) == "fig10d: Kerr black hole, mass M = 2.5, spin a/M = 0.9"
     assert view_title("room", wv.Schwarzschild(mass=1.0)) == "room: Schwarzschild black hole, mass M = 1"
-    assert "throat b0 = 8 M" in view_title("fig12", wv.EllisWormhole(throat=8.0))
+    assert "throat b0 = 8 M" in view_title("fig13", wv.EllisWormhole(throat=8.0))
     assert view_title("schwarzschild", wv.Schwarzschild(mass=3.0)) == "Schwarzschild black hole, mass M = 3"
 
 

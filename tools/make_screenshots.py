@@ -27,7 +27,7 @@ SHOTS = {
     "fig04": ("fig04", {"pixels": [[20, 36]], "show_flat": True}, "--pixels 20,36 --flat-ray"),
     "fig07": ("fig07", {"show_flat": True}, "--flat-ray"),
     "fig10d": ("fig10d", {}, ""),
-    "wormhole": ("fig12", {"show_flat": True}, "--flat-ray"),
+    "wormhole": ("fig13", {"show_flat": True}, "--flat-ray"),
 }
 
 

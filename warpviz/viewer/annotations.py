@@ -48,7 +48,7 @@ COLORINGS = {"drift": "log10_error", "r": "r", "redshift": "redshift", "affine":
 DEFAULT_COLORING = "drift"
 
 #: A ray whose largest relative drift of a conserved quantity stays below this is trustworthy. At the
-#: renderer's default tolerance (1e-7 per step) the median camera ray of fig04, fig07, fig10d and fig12
+#: renderer's default tolerance (1e-7 per step) the median camera ray of fig04, fig07, fig10d and fig13
 #: drifts by 1e-7 to 3e-7 (measured over 192 pixels each); a ray is marked ``invariant_violation`` when
 #: its term-scaled drift passes :func:`warpviz.default_max_drift` (1e-4 there).
 GOOD_DRIFT = 1e-5
