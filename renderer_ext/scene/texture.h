@@ -15,8 +15,9 @@ struct Texture {
   V3 a{1, 1, 1}, b{0, 0, 0}, c{0, 0, 0};  // constant: a; checker: a, b; grid: base a, u-lines b, v-lines c
   double su = 1, sv = 1;                   // checker: checks; grid: cells; image: repeats
   double width = 0.0;                      // grid line width (fraction of a cell)
-  int mark_u = -1, mark_v = -1;            // grid: the line of constant u (v) number k = 0 .. cells drawn in
-  V3 mark_u_color{0, 0, 0}, mark_v_color{0, 0, 0};  // its own colour (-1: none)
+  // grid: line number k = 0 .. cells of constant u (v) drawn in mark_u_color (mark_v_color); -1: none
+  int mark_u = -1, mark_v = -1;
+  V3 mark_u_color{0, 0, 0}, mark_v_color{0, 0, 0};
   int w = 0, h = 0;                        // image size
   std::vector<float> rgb;                  // image, row 0 at v = 1
 
