@@ -363,3 +363,17 @@ def test_steppers_render_the_same_room_at_tight_tolerance(stepper):
     rel = np.abs(img - ref) / max(ref.mean(), 1e-12)
     assert np.quantile(rel, 0.95) < 1e-4
     assert rel.mean() < 1e-3  # a rare path may take the other branch at an edge
+
+
+def test_flat_recorded_segments_carry_every_column():
+    """A flat-space segment's recorded points hold every column of the track (both drift kinds included):
+    zero drifts, no shift, its sheet; before, the term-scaled drift columns were missing and the packer
+    read past the row (nan sheets, now and then)."""
+    scene = {"metric": {"name": "minkowski"}, "materials": [], "shapes": [],
+             "camera": {"position": [0, -8, 0], "look_at": [0, 0, 0], "fov": 40, "width": 8, "height": 6}}
+    rays = wv.render(scene, spp=4, record_pixels=np.array([[1, 1], [6, 4]]), progress=None).rays
+    pd = rays.point_data
+    names = [n for n in pd if n.endswith("_drift") or n.endswith("_drift_scaled")]
+    assert names and all(np.all(pd[n] == 0.0) for n in names)
+    assert np.all(pd["redshift"] == 1.0) and np.all(pd["sheet"] == 1)
+    assert all(np.all(np.isfinite(np.asarray(v, dtype=float))) for v in pd.values())

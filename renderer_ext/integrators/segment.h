@@ -139,7 +139,7 @@ class SegmentTracer {
       t.xyz.insert(t.xyz.end(), {p.x, p.y, p.z});
       const double lam = k == 0 ? 0.0 : L;
       t.cols.insert(t.cols.end(), {lam, -lam, length(p), lam, 0.0});
-      for (int j = 1; j < M::kNumInvariants; ++j) t.cols.push_back(0.0);
+      for (int j = 1; j < M::kNumInvariants; ++j) t.cols.insert(t.cols.end(), {0.0, 0.0});  // reported, scaled
       t.cols.push_back(1.0);
       t.cols.push_back(double(sheet));
     }
