@@ -87,11 +87,10 @@ def _textures(r: _Reader, tbl: Any) -> tuple[list, dict]:
     return out, index
 
 
-def _marked_lines(r: _Reader, tp: tuple, t: dict) -> dict:
-    """A grid's marked lines: ``mark_u = { line = K, color = [r, g, b] }`` draws line K (0 .. cells) of
+def _marked_lines(r: _Reader, tp: tuple, t: dict, cells: list) -> dict:
+    """A grid's marked lines: ``mark_u = { line = K, color = [r, g, b] }`` draws line K (0 .. cells[0]) of
     constant u in its own colour, likewise ``mark_v``; as the native keys mark_u(_color), mark_v(_color)."""
     out = {}
-    cells = r.numbers(t, tp, "cells", 2, _TEX["grid"]["cells"], integer=True, lo=1)
     for axis, n in (("u", cells[0]), ("v", cells[1])):
         key = f"mark_{axis}"
         if key not in t:
@@ -113,12 +112,12 @@ def _texture(r: _Reader, tp: tuple, kind: str, t: dict) -> dict:
             "scale": r.numbers(t, tp, "scale", 2, _TEX["checker"]["scale"], lo=0.0, lo_open=True),
         }  # fmt: skip
     if kind == "grid":
+        cells = r.numbers(t, tp, "cells", 2, _TEX["grid"]["cells"], integer=True, lo=1)
         return {
             "type": "grid", "base": r.color(t, tp, "base", [1.0, 1.0, 1.0]),
             "line_u": r.color(t, tp, "line_u", [0.0, 0.0, 0.0]), "line_v": r.color(t, tp, "line_v", [0.0, 0.0, 0.0]),
-            "cells": r.numbers(t, tp, "cells", 2, _TEX["grid"]["cells"], integer=True, lo=1),
-            "width": r.real(t, tp, "width", _TEX["grid"]["width"], lo=0.0, hi=1.0),
-            **_marked_lines(r, tp, t),
+            "cells": cells, "width": r.real(t, tp, "width", _TEX["grid"]["width"], lo=0.0, hi=1.0),
+            **_marked_lines(r, tp, t, cells),
         }  # fmt: skip
     repeat = r.numbers(t, tp, "repeat", 2, _TEX["image"]["repeat"], lo=0.0, lo_open=True)
     if kind == "image":
