@@ -137,7 +137,8 @@ def test_render_passes_options_and_reports_interruption(tmp_path, monkeypatch):
     assert isinstance(scene, Scene) and scene.path.name == "fig07_schwarzschild_cornell.toml"
     assert kw == {"spp": 3, "width": 20, "height": 10, "seed": 5, "threads": 2, "flat": True, "light_sampling": False,
                   "paper": True, "progress": kw["progress"], "record_pixels": None,
-                  "light_connection": None, "crop": None, "aovs": []}  # fmt: skip (a PNG needs no AOVs)
+                  "light_connection": None, "crop": None, "aovs": [],  # a PNG needs no AOVs
+                  "on_pass": kw["progress"].on_pass}  # fmt: skip
 
 
 def test_render_passes_edge_samples_only_when_given(tmp_path, monkeypatch):

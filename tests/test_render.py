@@ -137,7 +137,8 @@ def test_aovs_and_stats():
     img = wv.render(room(metric("schwarzschild", 1.0), size=(12, 9)), spp=2)
     h, w = img.shape
     assert set(img.aovs) == {"redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo",
-                             "albedo_normal", "errors", "samples"}
+                             "albedo_normal", "errors", "samples", "variance"}
+    assert img.aovs["variance"].shape == (h, w, 3) and (img.aovs["variance"] >= 0).all()
     assert np.all((img.aovs["albedo"] >= 0) & (img.aovs["albedo"] <= 1))
     for name, arr in img.aovs.items():
         assert arr.dtype == np.float32 and arr.shape[:2] == (h, w), name

@@ -102,7 +102,7 @@ def _key_paths(node, path=()):
 
 
 def _render_options() -> dict:
-    options = dict(DEFAULT_OPTIONS, spp=1, threads=1, progress=None, record_pixels=None)
+    options = dict(DEFAULT_OPTIONS, spp=1, sample_begin=0, threads=1, progress=None, record_pixels=None)
     options["max_drift"] = default_max_drift(options["tol"])
     options["filter_radius"] = FILTER_RADII[options["filter"]]
     return options

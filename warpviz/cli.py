@@ -47,7 +47,7 @@ from rich.text import Text
 import warpviz
 from warpviz.io import written_by_warpviz
 from warpviz.limits import (EXPOSURE_RANGE, MAX_EDGE_SAMPLES, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES,
-                            exposure_stops)
+                            duration_seconds, exposure_stops, noise_level)
 from warpviz.render.denoise import DenoiserMissing
 from warpviz.render.false_colour import FALSE_COLOUR_STYLES
 from warpviz.render.render import OPTIONAL_AOVS
@@ -227,28 +227,61 @@ def _output_path(path: Path, suffixes: tuple[str, ...], *, force: bool = False, 
 
 
 @contextlib.contextmanager
-def _progress_bar(label: str, *, enabled: bool):
-    """A rich progress bar on stderr; yields the ``progress(done, total)`` callback for the renderer."""
-    columns = (TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(), MofNCompleteColumn(),
-               TimeElapsedColumn(), TimeRemainingColumn())  # fmt: skip
+def _progress_bar(label: str, *, enabled: bool, seconds: Optional[float] = None):
+    """A rich progress bar on stderr; yields the ``progress(done, total)`` callback for the renderer, whose
+    ``on_pass`` attribute takes the renderer's pass reports (samples per pixel reached, noise).
+
+    With a time budget of ``seconds`` the bar is the time: how much of it is spent and how much is left;
+    without one, the samples done of those asked for."""
+    info = TextColumn("{task.fields[info]}")
+    if seconds is None:
+        columns = (TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(), MofNCompleteColumn(), info,
+                   TimeElapsedColumn(), TimeRemainingColumn())  # fmt: skip
+    else:
+        columns = (TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[left]}"), info,
+                   TimeElapsedColumn())  # fmt: skip
+    start = time.perf_counter()
     with Progress(*columns, console=err, disable=not enabled, transient=False) as progress:
-        task = progress.add_task(label, total=None)
+        task = progress.add_task(label, total=None if seconds is None else seconds, info="", left="")
 
         def update(done: int, total: int) -> None:
-            progress.update(task, completed=int(done), total=int(total))
+            if seconds is None:
+                progress.update(task, completed=int(done), total=int(total))
+            else:
+                spent = min(seconds, time.perf_counter() - start)
+                progress.update(task, completed=spent, left=f"{_duration(seconds - spent)} left")
 
+        def on_pass(report) -> None:
+            noise = "" if report.noise != report.noise else f", noise {100 * report.noise:.2g} %"
+            progress.update(task, info=f"{report.spp} spp{noise}")
+
+        update.on_pass = on_pass
         yield update
 
 
+def _duration(seconds: float) -> str:
+    """``'42 s'``, ``'3 min 20 s'``, ``'1 h 05 min'``."""
+    seconds = max(0, int(round(seconds)))
+    if seconds < 60:
+        return f"{seconds} s"
+    if seconds < 3600:
+        return f"{seconds // 60} min {seconds % 60:02d} s"
+    return f"{seconds // 3600} h {seconds % 3600 // 60:02d} min"
+
+
 def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_sampling, progress, record_pixels=None,
-                  light_connection=None, crop=None, aovs=None, denoise=False, edge_samples=None):
+                  light_connection=None, crop=None, aovs=None, denoise=False, edge_samples=None, time_limit=None,
+                  noise_target=None, resume=None):
     """Call warpviz.render with the command line's options; bad options (and images too large for the
-    memory) become exit code 2, a denoiser that is not installed exit code 1 with the extra to install."""
+    memory, and an image to resume that does not match) become exit code 2, a denoiser that is not
+    installed exit code 1 with the extra to install."""
     render = _renderer()
     width, height = size if size is not None else (None, None)
     extra = {"denoise": True} if denoise else {}  # only when asked: a stand-in renderer need not know them
-    if edge_samples is not None:
-        extra["edge_samples"] = edge_samples
+    for key, value in (("edge_samples", edge_samples), ("time_limit", time_limit), ("noise_target", noise_target),
+                       ("resume", resume), ("on_pass", getattr(progress, "on_pass", None))):  # fmt: skip
+        if value is not None:
+            extra[key] = value
     try:
         return render(scene, spp=spp, width=width, height=height, seed=seed, threads=threads, flat=flat,
                       light_sampling=light_sampling, paper=paper, progress=progress,
@@ -287,13 +320,35 @@ def _aovs_for(target: Optional[Path], scene: Scene) -> list[str]:
 
 
 def _keep_aovs(img: Any, names: Optional[list[str]]) -> None:
-    """Drop the AOVs a scene's ``[outputs] aovs`` does not list (only before writing an EXR); ``errors``
-    and ``samples`` always stay, so an EXR says which pixels lost samples and how many each has."""
+    """Drop the AOVs a scene's ``[outputs] aovs`` does not list (only before writing an EXR); ``errors``,
+    ``samples`` and ``variance`` always stay, so an EXR says which pixels lost samples, how many each has
+    and how noisy each is (and can be resumed)."""
     aovs = getattr(img, "aovs", None)
     if names is None or not isinstance(aovs, dict):
         return
-    for key in [k for k in aovs if k not in names and k not in ("errors", "samples")]:
+    for key in [k for k in aovs if k not in names and k not in ("errors", "samples", "variance")]:
         del aovs[key]
+
+
+def _checked(flag: str, check, value):
+    """``check(flag, value)`` (a limits checker), a ValueError becoming exit code 2; None stays None."""
+    if value is None:
+        return None
+    try:
+        return check(flag, value)
+    except ValueError as exc:
+        _fail(str(exc), EXIT_BAD_INPUT)
+
+
+def _samples_summary(img: Any) -> str:
+    """``', 48 spp in 9 passes, noise 2.1 %'``: what a render in passes reached ('' for a stand-in image)."""
+    meta = getattr(img, "metadata", None) or {}
+    if "passes" not in meta:
+        return ""
+    text = f", {meta['spp']} spp in {meta['passes']} pass{'' if meta['passes'] == 1 else 'es'}"
+    if meta.get("noise") is not None:
+        text += f", noise {100 * meta['noise']:.2g} %"
+    return text
 
 
 def _error_summary(img: Any) -> str:
@@ -342,7 +397,28 @@ def render(
         "Default: the scene's [outputs] file (inside the scene's folder or the working directory), "
         "else SCENE_NAME.png.",
     ),  # fmt: skip
-    spp: Optional[int] = typer.Option(None, "--spp", min=1, max=MAX_SPP, help="Samples per pixel (default: the scene's)."),
+    spp: Optional[int] = typer.Option(
+        None, "--spp", min=1, max=MAX_SPP,
+        help="Samples per pixel (default: the scene's; with --time or --noise alone: no limit). With --resume, the "
+        "total, the image's own counted.",
+    ),  # fmt: skip
+    time_budget: Optional[str] = typer.Option(
+        None, "--time",
+        help="Time budget: seconds, or 90s, 2m, 1h30m. The render works in passes and stops when the next would "
+        "not fit; the samples per pixel reached are printed and stored (the image equals a --spp render of "
+        "them). With --spp or --noise: whichever comes first.",
+    ),  # fmt: skip
+    noise: Optional[float] = typer.Option(
+        None, "--noise",
+        help="Stop once the estimated relative noise (root mean variance of the pixel means over the mean radiance, "
+        "lit pixels) is at most this, e.g. 0.02 for 2 %; checked after each pass.",
+    ),  # fmt: skip
+    resume: Optional[Path] = typer.Option(
+        None, "--resume",
+        help="Add passes to this EXR, which warpviz wrote for the same scene and settings (anything else is refused, "
+        "naming what differs). Without -o the EXR itself is updated. The result equals one render of the total "
+        "samples to float32 rounding.",
+    ),  # fmt: skip
     size: Optional[str] = typer.Option(
         None, "--size", callback=_parse_size, help=f"Image size WIDTHxHEIGHT, e.g. 320x240 (each at most {MAX_IMAGE_SIDE})."
     ),
@@ -402,16 +478,23 @@ def render(
 ) -> None:
     """Render a scene to a PNG or EXR image.
 
-    Ctrl-C (exit 130) or SIGTERM (exit 143) stops early and saves the partial image; exit 3 means too many
-    samples failed (see --max-error-fraction).
+    Ctrl-C (exit 130) or SIGTERM (exit 143) stops early and saves the finished passes (an EXR of them can be
+    resumed with --resume); exit 3 means too many samples failed (see --max-error-fraction).
     """
     with _guard(), _stoppable():
+        seconds_budget = _checked("--time", duration_seconds, time_budget)
+        noise_target = _checked("--noise", noise_level, noise)
+        if resume is not None:
+            if resume.suffix.lower() != ".exr" or not resume.is_file():
+                _fail(f"--resume {str(resume)!r} must be an existing .exr file that warpviz wrote", EXIT_BAD_INPUT)
+            if output is None:
+                output = resume  # the image is continued in place
         sc = load_scene(scene)
         look = _look(sc, exposure=exposure, tonemap=tonemap)
         chosen = output is None and sc.outputs.get("file") is not None
         target = output or Path(sc.outputs.get("file") or f"{sc.path.stem if sc.path else 'scene'}.png")
         target = _output_path(target, IMAGE_SUFFIXES, force=force, scene=sc if chosen else None)
-        aovs = _aovs_for(target, sc)
+        aovs = None if resume is not None else _aovs_for(target, sc)  # a resumed image keeps its own
         if false_colour is not None:
             if false_colour not in FALSE_COLOUR_STYLES:
                 _fail(f"--false-colour must be one of {', '.join(FALSE_COLOUR_STYLES)}, got {false_colour!r}",
@@ -421,11 +504,13 @@ def render(
             aovs = [false_colour] if false_colour in OPTIONAL_AOVS else []
         _renderer()
         t0 = time.perf_counter()
-        with _progress_bar(sc.path.stem if sc.path else "scene", enabled=not quiet) as progress:
+        bar = {"seconds": seconds_budget} if seconds_budget is not None else {}  # a stand-in bar need not know it
+        with _progress_bar(sc.path.stem if sc.path else "scene", enabled=not quiet, **bar) as progress:
             img = _render_scene(sc, spp=spp, size=size, seed=seed, threads=threads, flat=flat, paper=paper,
                                 light_sampling=False if no_light_sampling else None, progress=progress,
                                 light_connection=light_connection, crop=crop, aovs=aovs,
-                                denoise=denoise, edge_samples=edge_samples)  # fmt: skip
+                                denoise=denoise, edge_samples=edge_samples, time_limit=seconds_budget,
+                                noise_target=noise_target, resume=resume)  # fmt: skip
         if target.suffix.lower() == ".exr":
             _keep_aovs(img, sc.outputs.get("aovs"))
         if false_colour is not None:
@@ -435,10 +520,10 @@ def render(
         seconds = time.perf_counter() - t0
         h, w = np.shape(img.rgb)[:2]
         if not getattr(img, "completed", True):
-            err.print(Text(f"{_stop_word()}: saved the partial image ({w}x{h}, {_error_summary(img)}) to {target}",
-                           style="yellow"))  # fmt: skip
+            err.print(Text(f"{_stop_word()}: saved the partial image ({w}x{h}{_samples_summary(img)}, "
+                           f"{_error_summary(img)}) to {target}", style="yellow"))  # fmt: skip
             raise typer.Exit(_stop_code())
-        err.print(f"wrote {target} ({w}x{h}, {seconds:.1f} s, {_error_summary(img)})")
+        err.print(f"wrote {target} ({w}x{h}{_samples_summary(img)}, {seconds:.1f} s, {_error_summary(img)})")
         _check_errors(img, max_error_fraction, target)
 
 

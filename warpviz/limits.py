@@ -17,10 +17,12 @@ Examples
 
 from __future__ import annotations
 
+import math
 import numbers
+import re
 
 __all__ = ["EXPOSURE_RANGE", "TONEMAP_NAMES", "MAX_EDGE_SAMPLES", "MAX_IMAGE_SIDE", "MAX_SPP", "MAX_SEED", "TOLERANCE_RANGES", "exposure_stops", "image_side",
-           "tolerance_problem", "tolerance_range"]
+           "tolerance_problem", "tolerance_range", "MAX_TIME_LIMIT", "NOISE_RANGE", "duration_seconds", "noise_level"]
 
 #: Largest image width or height in pixels. Whether an image of a given size fits in memory is checked
 #: against the machine before rendering; this only bounds the pixel coordinates the core indexes with.
@@ -38,6 +40,13 @@ MAX_SEED = 2**63 - 1
 #: The exposure of a tonemapped picture, in stops (the radiance times 2 ** exposure), as [lowest, highest]:
 #: 2**20 is a millionfold either way, far beyond any scene's range, and keeps the scaled radiance finite.
 EXPOSURE_RANGE = (-20.0, 20.0)
+
+#: Longest time budget of one render, in seconds (30 days): longer work is a series of resumed renders.
+MAX_TIME_LIMIT = 30 * 86400.0
+
+#: A render's noise target (its relative noise estimate, :func:`warpviz.render.passes.noise_estimate`) lies
+#: in this open interval: 1 is noise as large as the image, and a target at 0 is never reached.
+NOISE_RANGE = (0.0, 1.0)
 
 #: The tonemap curves a PNG may be written with (:mod:`warpviz.render.tonemap` defines them; named here so
 #: scene files, which sit below the renderer, check the same names).
@@ -136,4 +145,61 @@ def exposure_stops(name: str, value) -> float:
     lo, hi = EXPOSURE_RANGE
     if isinstance(value, bool) or not isinstance(value, numbers.Real) or not lo <= float(value) <= hi:
         raise ValueError(f"{name} must be a number of stops in [{lo:g}, {hi:g}], got {value!r}")
+    return float(value)
+
+
+_DURATION = re.compile(r"(?:(?P<h>\d+(?:\.\d*)?)h)?(?:(?P<m>\d+(?:\.\d*)?)m)?(?:(?P<s>\d+(?:\.\d*)?)s?)?")
+
+
+def duration_seconds(name: str, value) -> float:
+    """``value`` as a time budget in seconds, in (0, :data:`MAX_TIME_LIMIT`].
+
+    Parameters
+    ----------
+    name : str
+        What the value is, for the message (``"--time"``, ``"time_limit"``).
+    value : float or str
+        Seconds, or a string of seconds with an optional unit: ``"90"``, ``"90s"``, ``"2m"``, ``"1h30m"``,
+        ``"1.5h"``.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        Not a duration, not positive, or above the limit.
+
+    Examples
+    --------
+    >>> [duration_seconds("--time", v) for v in ("90", "2m", "1h30m", "1.5m", 45)]
+    [90.0, 120.0, 5400.0, 90.0, 45.0]
+    """
+    seconds = None
+    if isinstance(value, str):
+        text = value.strip().lower().replace(" ", "")
+        m = _DURATION.fullmatch(text)
+        if text and m and any(m.group(k) for k in "hms"):
+            seconds = sum(float(m.group(k) or 0) * f for k, f in (("h", 3600.0), ("m", 60.0), ("s", 1.0)))
+    elif isinstance(value, numbers.Real) and not isinstance(value, bool):
+        seconds = float(value)
+    if seconds is None or not math.isfinite(seconds):
+        raise ValueError(f"{name} must be a time such as 90 (seconds), 90s, 2m or 1h30m, got {value!r}")
+    if not 0 < seconds <= MAX_TIME_LIMIT:
+        raise ValueError(f"{name} must be more than 0 and at most {MAX_TIME_LIMIT:.0f} s (30 days), got {value!r}")
+    return seconds
+
+
+def noise_level(name: str, value) -> float:
+    """``value`` as a noise target: a relative error in the open interval :data:`NOISE_RANGE` (0.02: 2 %).
+
+    Raises
+    ------
+    ValueError
+        Not a real number in (0, 1).
+    """
+    lo, hi = NOISE_RANGE
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not lo < float(value) < hi:
+        raise ValueError(f"{name} must be a relative error in ({lo:g}, {hi:g}), e.g. 0.02 for 2 %, got {value!r}")
     return float(value)

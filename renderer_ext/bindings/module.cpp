@@ -113,6 +113,143 @@ nb::dict trace(const std::string& metric, const std::vector<double>& params, F64
 }
 
 
+
+// ------------------------------------------------------------------------------------------------- film
+// The film crosses into Python between ranges of samples (warpviz/render/passes.py) as a dict of numpy
+// arrays: its sums and counts, moved out, and copied back in for the next range.
+
+template <class T>
+nb::object film_array(std::vector<T>&& v, size_t H, size_t W, size_t C) {
+  if (v.empty()) return nb::none();  // an AOV the film does not keep
+  return C == 1 ? to_numpy(std::move(v), {H, W}) : to_numpy(std::move(v), {H, W, C});
+}
+
+nb::dict film_to_dict(wv::Film&& f) {
+  const size_t H = size_t(f.height), W = size_t(f.width);
+  nb::dict d;
+  d["x0"] = f.x0;
+  d["y0"] = f.y0;
+  d["rgb_sum"] = film_array(std::move(f.rgb_sum), H, W, 3);
+  d["rgb_sq_sum"] = film_array(std::move(f.rgb_sq_sum), H, W, 3);
+  d["samples"] = film_array(std::move(f.samples), H, W, 1);
+  d["errors"] = film_array(std::move(f.errors), H, W, 1);
+  d["steps_sum"] = film_array(std::move(f.steps_sum), H, W, 1);
+  d["max_drift"] = film_array(std::move(f.max_drift), H, W, 1);
+  d["redshift"] = film_array(std::move(f.redshift), H, W, 1);
+  d["status"] = film_array(std::move(f.status), H, W, 1);
+  d["depth"] = film_array(std::move(f.depth), H, W, 1);
+  d["normal"] = film_array(std::move(f.normal), H, W, 3);
+  d["albedo_sum"] = film_array(std::move(f.albedo_sum), H, W, 3);
+  d["albedo_normal_sum"] = film_array(std::move(f.albedo_normal_sum), H, W, 3);
+  return d;
+}
+
+// Array `key` of a film dict: C-contiguous (H, W[, C]) of type T; null for None where optional.
+template <class T>
+const T* film_data(const nb::dict& d, const char* key, size_t H, size_t W, size_t C, bool optional) {
+  if (!d.contains(key)) throw std::invalid_argument(std::string("film: '") + key + "' is missing");
+  nb::object o = d[key];
+  if (o.is_none()) {
+    if (optional) return nullptr;
+    throw std::invalid_argument(std::string("film: '") + key + "' must be an array");
+  }
+  nb::ndarray<const T, nb::c_contig, nb::device::cpu> a;
+  const bool ok = nb::try_cast(o, a) && a.ndim() == (C == 1 ? 2u : 3u) && a.shape(0) == H && a.shape(1) == W &&
+                  (C == 1 || a.shape(2) == C);
+  if (!ok) throw std::invalid_argument(std::string("film: '") + key + "' must be a C-contiguous array of shape (" +
+                                       std::to_string(H) + ", " + std::to_string(W) +
+                                       (C == 1 ? "" : ", " + std::to_string(C)) + ") and the film's type");
+  return a.data();
+}
+
+// One array of a film dict, copied into v (an AOV the film does not keep: None, v empty).
+template <class T>
+void film_vector(const nb::dict& d, const char* key, size_t H, size_t W, size_t C, std::vector<T>& v) {
+  const T* p = film_data<T>(d, key, H, W, C, true);
+  if (p) v.assign(p, p + H * W * C);
+  else v.clear();
+}
+
+wv::Film film_from_dict(const nb::dict& d) {
+  wv::Film f;
+  if (!d.contains("x0") || !d.contains("y0") || !d.contains("samples"))
+    throw std::invalid_argument("film must be a dict made by the renderer");
+  f.x0 = nb::cast<int>(d["x0"]);
+  f.y0 = nb::cast<int>(d["y0"]);
+  nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu> samples;
+  if (!nb::try_cast(d["samples"], samples) || samples.ndim() != 2)
+    throw std::invalid_argument("film: 'samples' must be an int32 array of shape (H, W)");
+  const size_t H = samples.shape(0), W = samples.shape(1);
+  f.height = int(H);
+  f.width = int(W);
+  film_vector(d, "rgb_sum", H, W, 3, f.rgb_sum);
+  film_vector(d, "rgb_sq_sum", H, W, 3, f.rgb_sq_sum);
+  film_vector(d, "samples", H, W, 1, f.samples);
+  film_vector(d, "errors", H, W, 1, f.errors);
+  film_vector(d, "steps_sum", H, W, 1, f.steps_sum);
+  film_vector(d, "max_drift", H, W, 1, f.max_drift);
+  film_vector(d, "redshift", H, W, 1, f.redshift);
+  film_vector(d, "status", H, W, 1, f.status);
+  film_vector(d, "depth", H, W, 1, f.depth);
+  film_vector(d, "normal", H, W, 3, f.normal);
+  film_vector(d, "albedo_sum", H, W, 3, f.albedo_sum);
+  film_vector(d, "albedo_normal_sum", H, W, 3, f.albedo_normal_sum);
+  return f;
+}
+
+// A film dict's sums and counts, read in place (checked like film_from_dict; the dict keeps them alive).
+struct SumsIn {
+  wv::FilmSums sums;
+  size_t H = 0, W = 0;
+};
+
+SumsIn sums_from_dict(const nb::dict& d) {
+  SumsIn in;
+  nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu> samples;
+  if (!d.contains("samples") || !nb::try_cast(d["samples"], samples) || samples.ndim() != 2)
+    throw std::invalid_argument("film: 'samples' must be an int32 array of shape (H, W)");
+  in.H = samples.shape(0);
+  in.W = samples.shape(1);
+  const size_t H = in.H, W = in.W;
+  in.sums.n = H * W;
+  in.sums.rgb_sum = film_data<double>(d, "rgb_sum", H, W, 3, false);
+  in.sums.rgb_sq_sum = film_data<double>(d, "rgb_sq_sum", H, W, 3, false);
+  in.sums.samples = samples.data();
+  in.sums.errors = film_data<int32_t>(d, "errors", H, W, 1, false);
+  in.sums.steps_sum = film_data<double>(d, "steps_sum", H, W, 1, true);
+  in.sums.albedo_sum = film_data<double>(d, "albedo_sum", H, W, 3, true);
+  in.sums.albedo_normal_sum = film_data<double>(d, "albedo_normal_sum", H, W, 3, true);
+  return in;
+}
+
+// The film resolved to the image's float32 arrays (film/film.h: resolve), read in place: rgb and variance
+// (H, W, 3), errors and samples (H, W), n_steps (H, W), albedo and albedo_normal (H, W, 3) where the film
+// keeps them (else None), and the totals of samples and of samples with errors.
+nb::dict resolve_film(nb::dict film) {
+  const SumsIn in = sums_from_dict(film);
+  wv::ResolvedFilm r;
+  {
+    nb::gil_scoped_release release;
+    r = wv::resolve(in.sums);
+  }
+  const size_t H = in.H, W = in.W;
+  auto opt = [&](std::vector<float>&& v, size_t C) -> nb::object {
+    if (v.empty()) return nb::none();
+    return C == 1 ? to_numpy(std::move(v), {H, W}) : to_numpy(std::move(v), {H, W, C});
+  };
+  nb::dict out;
+  out["rgb"] = to_numpy(std::move(r.rgb), {H, W, 3});
+  out["variance"] = to_numpy(std::move(r.variance), {H, W, 3});
+  out["errors"] = to_numpy(std::move(r.errors), {H, W});
+  out["samples"] = to_numpy(std::move(r.samples), {H, W});
+  out["n_steps"] = opt(std::move(r.n_steps), 1);
+  out["albedo"] = opt(std::move(r.albedo), 3);
+  out["albedo_normal"] = opt(std::move(r.albedo_normal), 3);
+  out["samples_total"] = r.samples_total;
+  out["errors_total"] = r.errors_total;
+  return out;
+}
+
 // A render option; warpviz/render/render.py resolves every default and validates every value, so each is present.
 template <class T>
 T option(const nb::dict& o, const char* key) {
@@ -135,6 +272,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   }
   wv::RenderOptions o;
   o.spp = option<int>(options, "spp");
+  o.sample_begin = option<int>(options, "sample_begin");
   o.seed = uint64_t(option<long long>(options, "seed"));
   o.max_depth = option<int>(options, "max_depth");
   o.rr_depth = option<int>(options, "rr_depth");
@@ -167,6 +305,13 @@ nb::dict render(nb::dict scene, nb::dict options) {
     o.filter_radius = option<double>(options, "filter_radius");
   }
   o.edge_samples = option<int>(options, "edge_samples");
+  if (options.contains("edge_list") && !options["edge_list"].is_none()) {  // None: probe for them
+    nb::ndarray<const int64_t, nb::c_contig, nb::device::cpu> el;
+    if (!nb::try_cast(options["edge_list"], el) || el.ndim() != 1)
+      throw std::invalid_argument("render option 'edge_list' must be an int64 array of shape (K,)");
+    o.edges_given = true;
+    o.edges.assign(el.data(), el.data() + el.size());
+  }
   o.batch = option<bool>(options, "batch");
   o.threads = option<int>(options, "threads");
   if (options.contains("crop") && !options["crop"].is_none()) {  // None: the whole image
@@ -186,6 +331,12 @@ nb::dict render(nb::dict scene, nb::dict options) {
     if (!nb::try_cast(options["record_pixels"], rp) || rp.ndim() != 2 || rp.shape(1) != 2)
       throw std::invalid_argument("record_pixels must be an int32 array of shape (K, 2)");
     o.record_pixels.assign(rp.data(), rp.data() + rp.size());
+    o.record_samples = option<int>(options, "record_samples");
+  }
+  wv::Film film_in;
+  if (options.contains("film") && !options["film"].is_none()) {  // the earlier ranges' sums, continued
+    film_in = film_from_dict(nb::cast<nb::dict>(options["film"]));
+    o.film_in = &film_in;
   }
   nb::object progress = options.contains("progress") ? nb::object(options["progress"]) : nb::none();
   bool interrupted = false;
@@ -210,40 +361,17 @@ nb::dict render(nb::dict scene, nb::dict options) {
   };
   const auto t0 = std::chrono::steady_clock::now();
   wv::RenderResult r;
-  wv::ResolvedFilm resolved;
   {
     nb::gil_scoped_release release;
     r = wv::render_scene(metric, params, sc, o, stepper);
-    resolved = wv::resolve(r.film);  // frees the film's sums as it goes
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (callback_error) std::rethrow_exception(callback_error);
-  if (!progress.is_none() && r.completed && !interrupted) {
-    const int64_t total = resolved.samples_total;
-    progress(total, total);
-  }
 
-  wv::Film& f = r.film;
-  const size_t W = size_t(f.width), H = size_t(f.height);
-  nb::dict out, aovs, stats;
-  out["rgb"] = to_numpy(std::move(resolved.rgb), {H, W, 3});
-  // The AOVs the film kept, moved (not copied) into numpy arrays.
-  auto aov = [&](const char* name, std::vector<float>&& v, size_t channels) {
-    if (!v.empty()) aovs[name] = channels == 1 ? to_numpy(std::move(v), {H, W}) : to_numpy(std::move(v), {H, W, channels});
-  };
-  aov("redshift", std::move(f.redshift), 1);
-  aov("n_steps", std::move(resolved.n_steps), 1);
-  aov("max_drift", std::move(f.max_drift), 1);
-  aov("status", std::move(f.status), 1);
-  aov("depth", std::move(f.depth), 1);
-  aov("normal", std::move(f.normal), 3);
-  aov("albedo", std::move(resolved.albedo), 3);
-  aov("albedo_normal", std::move(resolved.albedo_normal), 3);
-  aovs["errors"] = to_numpy(std::move(resolved.errors), {H, W});
-  aovs["samples"] = to_numpy(std::move(resolved.samples), {H, W});
-  out["aovs"] = aovs;
-  stats["samples"] = resolved.samples_total;
-  stats["samples_with_errors"] = resolved.errors_total;
+  nb::dict out, stats;
+  out["noise"] = wv::noise(wv::sums_of(r.film));
+  out["film"] = film_to_dict(std::move(r.film));
+  out["edge_list"] = to_numpy(std::move(r.edge_list), {size_t(r.edge_pixels)});
   out["completed"] = r.completed && !interrupted;
   nb::dict counts;
   for (int k = 0; k < wv::kNumStatuses; ++k) counts[wv::kStatusNames[k]] = r.status_counts[k];
@@ -353,7 +481,12 @@ NB_MODULE(_core, m) {
       },
       "metric"_a, "params"_a, "Empty if the parameters are valid for the metric, else why not.");
   m.def("render", &render, "scene"_a, "options"_a,
-        "Path-trace a native scene dict (docs/native-scene.md); see warpviz.render.");
+        "Path-trace samples [sample_begin, sample_begin + spp) of a native scene dict (docs/native-scene.md) "
+        "into a film (continuing options['film'], if given); see warpviz.render.");
+  m.def("resolve_film", &resolve_film, "film"_a, "A film's per-pixel means and AOVs as float32 arrays.");
+  m.def(
+      "film_noise", [](nb::dict film) { return wv::noise(sums_from_dict(film).sums); }, "film"_a,
+      "A film's relative noise estimate (film/film.h: noise; warpviz.render.passes.noise_estimate).");
   m.def("trace", &trace, "metric"_a, "params"_a, "origins"_a, "directions"_a, "sheets"_a, "tol"_a, "stepper"_a,
         "max_steps"_a, "escape_radius"_a, "max_drift"_a, "rk4_step"_a, "record"_a, "threads"_a, "batch"_a, "monitor_every"_a,
         "Trace rays; see warpviz.trace for the documented interface.");

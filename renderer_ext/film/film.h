@@ -5,6 +5,8 @@
 // the camera's image: it is indexed by the image's pixel coordinates, and holds only the window's pixels.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -23,6 +25,7 @@ struct Film {
   int x0 = 0, y0 = 0;              // the window's first pixel in the camera's image
   int width = 0, height = 0;       // the window's size
   std::vector<double> rgb_sum;     // (H, W, 3)
+  std::vector<double> rgb_sq_sum;  // (H, W, 3) squares of the samples' radiance: the variance of the mean
   std::vector<int32_t> samples;    // (H, W) samples accumulated
   std::vector<int32_t> errors;     // (H, W) samples whose path had an erroneous geodesic
   // Optional (empty unless asked for):
@@ -45,6 +48,7 @@ struct Film {
     height = h;
     const size_t n = size_t(w) * size_t(h);
     rgb_sum.assign(3 * n, 0.0);
+    rgb_sq_sum.assign(3 * n, 0.0);
     samples.assign(n, 0);
     errors.assign(n, 0);
     steps_sum.assign(a.n_steps ? n : 0, 0.0);
@@ -57,56 +61,112 @@ struct Film {
     albedo_normal_sum.assign(a.albedo_normal ? 3 * n : 0, 0.0);
   }
 
+  // Whether this film covers window (x, y, w, h) and keeps exactly the AOVs `a` (the layout resize makes):
+  // sums of earlier samples that a render may continue.
+  bool has_layout(int x, int y, int w, int h, const FilmAovs& a) const {
+    const size_t n = size_t(w) * size_t(h);
+    auto is = [](size_t size, bool kept, size_t per) { return size == (kept ? per : 0); };
+    return x0 == x && y0 == y && width == w && height == h && rgb_sum.size() == 3 * n && rgb_sq_sum.size() == 3 * n &&
+           samples.size() == n && errors.size() == n && is(steps_sum.size(), a.n_steps, n) &&
+           is(max_drift.size(), a.max_drift, n) && is(redshift.size(), a.redshift, n) &&
+           is(status.size(), a.status, n) && is(depth.size(), a.depth, n) && is(normal.size(), a.normal, 3 * n) &&
+           is(albedo_sum.size(), a.albedo, 3 * n) && is(albedo_normal_sum.size(), a.albedo_normal, 3 * n);
+  }
+
   // Index of image pixel (px, py), which must lie in the window.
   size_t index(int px, int py) const { return size_t(py - y0) * size_t(width) + size_t(px - x0); }
 };
 
+// A film's sums and counts, read in place (the film's own vectors, or the numpy arrays of a film that
+// crossed into Python between ranges of samples): what resolve() and noise() read.
+struct FilmSums {
+  size_t n = 0;                     // pixels
+  const double* rgb_sum = nullptr;  // (n, 3)
+  const double* rgb_sq_sum = nullptr;
+  const int32_t* samples = nullptr;  // (n,)
+  const int32_t* errors = nullptr;
+  const double* steps_sum = nullptr;  // optional (null: not kept)
+  const double* albedo_sum = nullptr;
+  const double* albedo_normal_sum = nullptr;
+};
+
+inline FilmSums sums_of(const Film& f) {
+  auto opt = [](const std::vector<double>& v) { return v.empty() ? nullptr : v.data(); };
+  return {size_t(f.width) * size_t(f.height), f.rgb_sum.data(), f.rgb_sq_sum.data(), f.samples.data(),
+          f.errors.data(), opt(f.steps_sum), opt(f.albedo_sum), opt(f.albedo_normal_sum)};
+}
+
+// The variance of pixel i's mean in channel k: (sum of squares - n mean^2) / (n - 1) / n, never below 0
+// (rounding); NaN below 2 samples.
+inline double mean_variance(const FilmSums& f, size_t i, int k) {
+  const double m = double(f.samples[i]);
+  if (m < 2) return NAN;
+  const double sum = f.rgb_sum[3 * i + k];
+  return std::max(0.0, f.rgb_sq_sum[3 * i + k] - sum * sum / m) / ((m - 1) * m);
+}
+
+// The relative noise of the image (warpviz/render/passes.py: noise_estimate): the root mean variance of the
+// pixel means over their mean radiance, both over the lit pixels (a channel's mean above 0) and channels;
+// 0 where no pixel is lit, NaN while a lit pixel has fewer than 2 samples.
+inline double noise(const FilmSums& f) {
+  double var = 0.0, level = 0.0;
+  size_t lit = 0;
+  for (size_t i = 0; i < f.n; ++i) {
+    const double m = double(f.samples[i]);
+    if (m <= 0 || !(f.rgb_sum[3 * i] > 0 || f.rgb_sum[3 * i + 1] > 0 || f.rgb_sum[3 * i + 2] > 0)) continue;
+    ++lit;
+    for (int k = 0; k < 3; ++k) {
+      var += mean_variance(f, i, k);  // NaN (fewer than 2 samples) makes the estimate NaN
+      level += f.rgb_sum[3 * i + k] / m;
+    }
+  }
+  if (lit == 0) return 0.0;
+  return level > 0 ? std::sqrt(var / double(3 * lit)) / (level / double(3 * lit)) : INFINITY;
+}
+
 // The film resolved to per-pixel means, float32 as the image and its AOVs are stored: rgb (H, W, 3) mean
-// radiance, n_steps (if kept) and errors (H, W) means per sample, samples (H, W) counts, albedo and
-// albedo_normal (if kept) (H, W, 3) means per sample; and the window's totals of samples and of samples
-// with errors.
+// radiance, variance (H, W, 3) the variance of that mean estimated from the pixel's samples (sample
+// variance / n; NaN below 2 samples), n_steps (if kept) and errors (H, W) means per sample, samples (H, W)
+// counts, albedo and albedo_normal (if kept) (H, W, 3) means per sample; and the totals of samples and of
+// samples with errors. The first-hit AOVs and max_drift are per pixel already and stay in the film.
 struct ResolvedFilm {
-  std::vector<float> rgb, n_steps, errors, samples, albedo, albedo_normal;
+  std::vector<float> rgb, variance, n_steps, errors, samples, albedo, albedo_normal;
   int64_t samples_total = 0, errors_total = 0;
 };
 
-// Resolves the film, releasing each of its sums as soon as it is converted (so a large image needs the
-// film plus one float32 copy of the radiance at most). The first-hit AOVs are already per pixel and stay
-// in the film.
-inline ResolvedFilm resolve(Film& f) {
-  const size_t n = size_t(f.width) * size_t(f.height);
+inline ResolvedFilm resolve(const FilmSums& f) {
+  const size_t n = f.n;
   ResolvedFilm out;
-  out.rgb.resize(3 * n);
   auto per_sample = [&f](size_t i) { return f.samples[i] > 0 ? 1.0 / f.samples[i] : 0.0; };
+  out.rgb.resize(3 * n);
+  out.variance.resize(3 * n);
   for (size_t i = 0; i < n; ++i) {
     const double c = per_sample(i);
-    for (int k = 0; k < 3; ++k) out.rgb[3 * i + k] = float(f.rgb_sum[3 * i + k] * c);
+    for (int k = 0; k < 3; ++k) {
+      out.rgb[3 * i + k] = float(f.rgb_sum[3 * i + k] * c);
+      out.variance[3 * i + k] = float(mean_variance(f, i, k));
+    }
   }
-  std::vector<double>().swap(f.rgb_sum);
-  if (!f.steps_sum.empty()) {
+  if (f.steps_sum) {
     out.n_steps.resize(n);
     for (size_t i = 0; i < n; ++i) out.n_steps[i] = float(f.steps_sum[i] * per_sample(i));
-    std::vector<double>().swap(f.steps_sum);
   }
-  auto mean3 = [&](std::vector<double>& sum, std::vector<float>& mean) {
-    if (sum.empty()) return;
+  auto mean3 = [&](const double* sum, std::vector<float>& mean) {
+    if (!sum) return;
     mean.resize(3 * n);
     for (size_t i = 0; i < n; ++i)
       for (int k = 0; k < 3; ++k) mean[3 * i + k] = float(sum[3 * i + k] * per_sample(i));
-    std::vector<double>().swap(sum);
   };
   mean3(f.albedo_sum, out.albedo);
   mean3(f.albedo_normal_sum, out.albedo_normal);
   out.errors.resize(n);
+  out.samples.resize(n);
   for (size_t i = 0; i < n; ++i) {
     out.errors[i] = float(f.errors[i] * per_sample(i));
+    out.samples[i] = float(f.samples[i]);
     out.errors_total += f.errors[i];
     out.samples_total += f.samples[i];
   }
-  std::vector<int32_t>().swap(f.errors);
-  out.samples.resize(n);
-  for (size_t i = 0; i < n; ++i) out.samples[i] = float(f.samples[i]);
-  std::vector<int32_t>().swap(f.samples);
   return out;
 }
 

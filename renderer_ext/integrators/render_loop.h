@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -36,7 +37,10 @@ struct SampleOut {
 
 // Adds one sample to its pixel.
 inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
-  for (int c = 0; c < 3; ++c) film.rgb_sum[3 * pix + c] += so.L[c];
+  for (int c = 0; c < 3; ++c) {
+    film.rgb_sum[3 * pix + c] += so.L[c];
+    film.rgb_sq_sum[3 * pix + c] += so.L[c] * so.L[c];
+  }
   film.samples[pix] += 1;
   if (!film.steps_sum.empty()) film.steps_sum[pix] += double(so.steps);
   if (!film.max_drift.empty()) film.max_drift[pix] = std::max(film.max_drift[pix], float(so.max_drift));
@@ -89,12 +93,14 @@ std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int 
   return edges;
 }
 
-// Renders camera `cam` (its window o.crop, if set) with o.spp samples per pixel, and o.edge_samples times as
-// many in the pixels on a directly seen light's edge (edge_pixels, probed before any sample where
-// probe_edges, i.e. something emits: the count does not depend on what the samples find, so every pixel's
-// mean stays unbiased): sample(px, py, s, film, out, recorded, stats, scheduler) is sample s of image pixel
-// (px, py) as a Task (PathTracer::sample_pixel), run by run_samples. A pixel's samples do not depend on the
-// window, so windows of an image tile it exactly.
+// Renders camera `cam` (its window o.crop, if set): samples [B, B + o.spp) of every pixel, B = o.sample_begin,
+// and [E B, E (B + o.spp)) of each pixel on a directly seen light's edge, E = o.edge_samples (edge_pixels,
+// probed before any sample where probe_edges, i.e. something emits, unless o.edges_given: the count does not
+// depend on what the samples find, so every pixel's mean stays unbiased). Consecutive ranges therefore
+// hold exactly the samples of one render of their total: a render can stop after any range and resume
+// later. sample(px, py, s, film, out, recorded, stats, scheduler) is sample s of image pixel (px, py) as
+// a Task (PathTracer::sample_pixel), run by run_samples. A pixel's samples do not depend on the window,
+// so windows of an image tile it exactly.
 template <class M, class S, class Sample, class Probe>
 RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o, const Sample& sample,
                            const Probe& probe, bool probe_edges) {
@@ -102,7 +108,13 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
   const bool whole = o.crop[2] <= 0 || o.crop[3] <= 0;
   const int X0 = whole ? 0 : o.crop[0], Y0 = whole ? 0 : o.crop[1];
   const int W = whole ? cam.width : o.crop[2], H = whole ? cam.height : o.crop[3];
-  out.film.resize(X0, Y0, W, H, o.aovs);
+  if (o.film_in) {  // the earlier ranges' sums, continued (no second film allocated)
+    if (!o.film_in->has_layout(X0, Y0, W, H, o.aovs))
+      throw std::invalid_argument("render option 'film' does not cover this window with these AOVs");
+    out.film = std::move(*o.film_in);
+  } else {
+    out.film.resize(X0, Y0, W, H, o.aovs);
+  }
   out.num_columns = track_columns<M>();
 
   // Recorded pixels: slot per pixel of the window (-1 = not recorded).
@@ -118,6 +130,7 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
   }
 
   const size_t npix = size_t(W) * H;
+  const int64_t B = o.sample_begin, B1 = B + o.spp, E = o.edge_samples;
   std::atomic<int64_t> done{0};
   int64_t total = int64_t(npix) * o.spp;
   // A stop is for good: poll can be asked for a stop after a pass's last chunk has started, when
@@ -130,49 +143,76 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
                                             : std::function<bool()>();
   std::vector<size_t> edges;
   RenderStats probes;  // the probe rays' segments, counted with the samples'
-  if (o.edge_samples > 1 && probe_edges) {
+  if (E > 1 && o.edges_given) {
+    edges.reserve(o.edges.size());
+    for (const int64_t p : o.edges) {
+      if (p < 0 || size_t(p) >= npix || (!edges.empty() && size_t(p) <= edges.back()))
+        throw std::invalid_argument("render option 'edge_list' must hold ascending pixel indices of the window");
+      edges.push_back(size_t(p));
+    }
+  } else if (E > 1 && probe_edges) {
     bool cancelled = false;
     edges = edge_pixels<M, S>(m, o, X0, Y0, W, H, probe, poll, cancelled, probes);
     if (cancelled || stopped) {
       out.completed = false;
       return out;
     }
-    total += int64_t(edges.size()) * o.spp * (o.edge_samples - 1);
   }
   out.edge_pixels = int64_t(edges.size());
+  out.edge_list.assign(edges.begin(), edges.end());
+
+  // The pixels of the main passes: all of them in the first range (an edge pixel's first samples [0, B1)
+  // come with everyone's, so an interrupted first range is a whole image); later, only the others, an edge
+  // pixel's range [E B, E B1) being all in its own passes.
+  std::vector<size_t> main_pixels;
+  const bool all_main = B == 0 || edges.empty();
+  if (!all_main) {
+    main_pixels.reserve(npix - edges.size());
+    for (size_t p = 0, e = 0; p < npix; ++p) {
+      if (e < edges.size() && edges[e] == p) ++e;
+      else main_pixels.push_back(p);
+    }
+  }
+  const size_t nmain = all_main ? npix : main_pixels.size();
+  const int64_t edge_s0 = B == 0 ? B1 : E * B, edge_s1 = E * B1;  // the edge pixels' own samples
+  total = int64_t(nmain) * o.spp + (edges.empty() ? 0 : int64_t(edges.size()) * (edge_s1 - edge_s0));
 
   // Progressive passes (1, 1, 2, 4, ... samples) so an interrupted render is a whole image; then the edge
   // pixels' further samples, doubling.
   struct Pass {
-    int s0, s1;
+    int64_t s0, s1;
     bool edges_only;
   };
   std::vector<Pass> passes;
-  for (int s0 = 0, n = 1; s0 < o.spp; s0 += n, n = std::min(2 * n, 64))
-    passes.push_back({s0, std::min(o.spp, s0 + n), false});
+  for (int64_t s0 = B, n = 1; s0 < B1; s0 += n, n = std::min<int64_t>(2 * n, 64))
+    passes.push_back({s0, std::min(B1, s0 + n), false});
   if (!edges.empty()) {
-    const int64_t last = int64_t(o.spp) * o.edge_samples;
-    for (int64_t s0 = o.spp, n = std::min(o.spp, 64); s0 < last; s0 += n, n = std::min<int64_t>(2 * n, 64))
-      passes.push_back({int(s0), int(std::min(last, s0 + n)), true});
+    for (int64_t s0 = edge_s0, n = std::min<int64_t>(o.spp, 64); s0 < edge_s1;
+         s0 += n, n = std::min<int64_t>(2 * n, 64))
+      passes.push_back({s0, std::min(edge_s1, s0 + n), true});
   }
   std::atomic<int64_t> counts[6];
   for (int k = 0; k < 6; ++k) counts[k] = probes.counts[k];
   std::atomic<int64_t> steps{probes.steps}, segments{probes.segments};
   constexpr size_t kChunk = 64;  // pixels per parallel task
   for (const auto& pass : passes) {
-    const size_t nwork = pass.edges_only ? edges.size() : npix;
+    const size_t nwork = pass.edges_only ? edges.size() : nmain;
     const size_t nchunks = (nwork + kChunk - 1) / kChunk;
     auto body = [&](size_t c) {
       const size_t p0 = c * kChunk, p1 = std::min(nwork, p0 + kChunk);
       const size_t ns = size_t(pass.s1 - pass.s0), njobs = (p1 - p0) * ns;
-      auto pixel = [&](size_t k) { return pass.edges_only ? edges[p0 + k / ns] : p0 + k / ns; };
+      auto pixel = [&](size_t k) {
+        const size_t i = p0 + k / ns;
+        return pass.edges_only ? edges[i] : all_main ? i : main_pixels[i];
+      };
       std::vector<SampleOut> outs(njobs);
       RenderStats st;
       auto make = [&](size_t k, SampleScheduler<M, S>* sched) {
         const size_t pix = pixel(k);
-        // Only the first spp samples of a recorded pixel are recorded, with or without edge samples.
-        return sample(X0 + int(pix % W), Y0 + int(pix / W), pass.s0 + int(k % ns), out.film, outs[k],
-                      slot[pix] >= 0 && !pass.edges_only, st, sched);
+        // A recorded pixel's samples below o.record_samples are recorded (in any range).
+        const int s = int(pass.s0 + int64_t(k % ns));
+        return sample(X0 + int(pix % W), Y0 + int(pix / W), s, out.film, outs[k],
+                      slot[pix] >= 0 && s < o.record_samples, st, sched);
       };
       run_samples<M, S>(m, o.batch, njobs, make);
       // Summed in (pixel, sample) order, whatever order the samples finished in.

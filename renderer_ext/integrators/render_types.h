@@ -22,7 +22,11 @@ enum LightConnectionKind : int { kAimedConnection = 0, kLensConnection = 1 };
 enum PixelSamplerKind : int { kIndependentPixels = 0, kSobolPixels = 1 };
 
 struct RenderOptions {
+  // Samples [sample_begin, sample_begin + spp) of every pixel ([E * sample_begin, E * (sample_begin + spp)) of
+  // an edge pixel, E = edge_samples): a render in passes over consecutive ranges holds exactly the samples
+  // of one render of their total (render_loop.h), so it can stop after any pass and resume later.
   int spp = 16;
+  int sample_begin = 0;
   uint64_t seed = 0;
   int max_depth = 8;   // geodesic segments per path
   int rr_depth = 3;    // Russian roulette from this segment on
@@ -37,6 +41,10 @@ struct RenderOptions {
   // Pixels on the edge of a directly seen light (render_loop.h: edge_pixels) get edge_samples x spp samples:
   // the lamp's edge inside a pixel (a lensed lamp's thin arcs) is the noise no light connection touches.
   int edge_samples = 1;
+  // The window's edge pixels (indices into the window, ascending) when a previous range found them
+  // (RenderResult::edge_list): the probes are then not traced again.
+  bool edges_given = false;
+  std::vector<int64_t> edges;
   int filter = kBoxFilter;     // pixel reconstruction filter (film/pixel_filter.h), by importance sampling
   double filter_radius = 0.5;  // its support's half-width in pixels
   bool batch = true;       // curved space: step the geodesics of many samples together in SIMD lanes
@@ -46,7 +54,12 @@ struct RenderOptions {
   int threads = 0;
   int crop[4] = {0, 0, 0, 0};  // window (x0, y0, width, height) of the image to render; width 0: all of it
   FilmAovs aovs;               // the AOVs the film keeps
+  // The sums of the earlier ranges' samples ([0, sample_begin)), continued (moved from; same window and
+  // AOVs), or null: an empty film. Samples are added in sample order either way, so a render in ranges
+  // gives the bits of one render of them all.
+  Film* film_in = nullptr;
   std::vector<int32_t> record_pixels;  // (x, y) image pixel pairs whose paths are recorded
+  int record_samples = 0;              // ... their samples [0, record_samples) (of whichever ranges)
   // Called from the calling thread every ~20 ms with (samples done, samples total); false cancels.
   std::function<bool(int64_t, int64_t)> poll;
 };
@@ -74,6 +87,7 @@ struct RenderResult {
   int64_t total_steps = 0;
   int64_t segments = 0;
   int64_t edge_pixels = 0;  // pixels given edge_samples x spp samples
+  std::vector<int64_t> edge_list;  // those pixels (indices into the window, ascending)
   int num_columns = 0;
   std::vector<RecordedSegment> recorded;
 };

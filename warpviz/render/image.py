@@ -44,10 +44,15 @@ AOV_DESCRIPTIONS = {
               "(through mirrors and glass; an emitter: its colour; 0 where none): the denoiser's feature",
     "albedo_normal": "(H, W, 3) mean over samples of the user-frame normal at the path's first non-specular hit "
                      "(0 where none): the denoiser's feature",
+    "variance": "(H, W, 3) variance of each pixel mean's R, G, B, estimated from the pixel's samples (sample variance "
+                "/ samples; NaN below 2 samples): the noise left, and what a resumed render continues",
     "errors": "fraction of samples whose path had a geodesic ending in max_steps/invariant_violation/nan",
     "samples": "number of samples accumulated (less than spp after an interruption)",
 }
 
+
+#: (H, W, 3) AOVs whose channels are colours (``variance.R/G/B`` in an EXR); the others are vectors (``.X/Y/Z``).
+_COLOUR_AOVS = ("variance",)
 
 _TONEMAP_PIXELS = 1 << 16  # pixels tonemapped at a time (~6 MB of float64 temporaries)
 
@@ -89,6 +94,14 @@ class Image:
     rays: RayBundle | None = None
     native_scene: dict | None = None
     denoised: np.ndarray | None = None
+
+    @classmethod
+    def open(cls, path: str | os.PathLike) -> Image:
+        """An EXR that a warpviz render wrote (:func:`warpviz.render.resume.read_exr`): radiance, AOVs and
+        the header's metadata, e.g. to look at, or to continue with ``render(resume=...)``."""
+        from warpviz.render.resume import read_exr
+
+        return read_exr(path)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -187,7 +200,7 @@ class Image:
         ----------
         path : str or os.PathLike
             ``.exr``: float32 channels R, G, B (the unbiased radiance) plus every AOV (``normal`` as
-            ``normal.X/Y/Z``) and, for a denoised image, the layer ``denoised.R/G/B``; the metadata as
+            ``normal.X/Y/Z``, ``variance`` as ``variance.R/G/B``) and, for a denoised image, the layer ``denoised.R/G/B``; the metadata as
             the ``warpviz`` header string and ``errorFraction`` as a float attribute.
             ``.png``: tonemapped 8-bit sRGB (of the denoised radiance, where there is one), the metadata
             (with the ``tonemap`` and ``exposure`` used) as a ``warpviz`` text chunk.
@@ -224,7 +237,7 @@ class Image:
         for name, arr in self.aovs.items():
             arr = np.asarray(arr, dtype=np.float32)
             if arr.ndim == 3:
-                for k, axis in enumerate("XYZ"):
+                for k, axis in enumerate("RGB" if name in _COLOUR_AOVS else "XYZ"):
                     channels[f"{name}.{axis}"] = np.ascontiguousarray(arr[..., k])
             else:
                 channels[name] = np.ascontiguousarray(arr)

@@ -1,8 +1,8 @@
 """How much memory a render needs, and whether the machine has it, before anything is allocated.
 
-A render's memory grows with its pixel count: the core's film (double sums of radiance, sample and error
-counts, and the AOVs asked for), the float32 image and AOVs handed to Python, and the copies made while
-saving. :func:`render_bytes` adds these up from the film's layout (``renderer_ext/film/film.h``);
+A render's memory grows with its pixel count: the core's film (double sums of radiance and of its
+squares, sample and error counts, and the AOVs asked for), twice while a pass continues the finished
+passes' film, then the float32 image and AOVs resolved from it, and the copies made while saving. :func:`render_bytes` adds these up from the film's layout (``renderer_ext/film/film.h``);
 :func:`check_render_memory` compares the estimate with the memory the machine has free (the smaller of
 ``MemAvailable`` and the process's cgroup limit, or ``WARPVIZ_MEMORY_LIMIT`` where set) and refuses, with a
 :class:`RenderTooLarge` error naming the size, the estimate and what to do, a render that would not fit.
@@ -10,8 +10,8 @@ saving. :func:`render_bytes` adds these up from the film's layout (``renderer_ex
 Examples
 --------
 >>> from warpviz.render.memory import render_bytes
->>> render_bytes(1000, 1000, aovs=())  # radiance, samples and errors only: 44 bytes per pixel
-44000000
+>>> render_bytes(1000, 1000, aovs=())  # radiance, its variance, samples and errors: 112 bytes per pixel
+112000000
 >>> render_bytes(1000, 1000, aovs=("depth", "normal")) > render_bytes(1000, 1000, aovs=())
 True
 """
@@ -26,24 +26,21 @@ from pathlib import Path
 __all__ = ["RenderTooLarge", "render_bytes", "available_memory", "check_render_memory", "format_bytes"]
 
 # Bytes per pixel, from renderer_ext/film/film.h and bindings/module.cpp.
-#: While the core resolves its film: the film's double radiance sums (24), sample and error counts (4 + 4)
-#: and the float32 radiance they become (12).
-_CORE = 44
-#: What the returned image keeps: float32 radiance (12), errors and samples (4 + 4).
-_IMAGE = 20
-#: Saving copies the radiance once more (the EXR's R, G, B channels, or the PNG's 8-bit pixels and their
-#: compressed stream).
-_SAVE = 12
-#: Each optional AOV: bytes in the core's film, and in the returned image (the first-hit AOVs' numpy
-#: arrays are the film's own, moved; n_steps is a double sum resolved to float32).
+#: The core's film: double sums of radiance and of its squares (24 + 24), sample and error counts (4 + 4).
+_FILM = 56
+#: What resolving it makes: float32 radiance and the variance of its mean (12 + 12), errors and samples
+#: (4 + 4).
+_IMAGE = 32
+#: Each optional AOV: bytes in the film, and those its resolution adds (the first-hit AOVs and max_drift are
+#: per pixel already: the image keeps the film's own arrays; the sums resolve to float32 means).
 AOV_BYTES = {
     "n_steps": (8, 4),
-    "max_drift": (4, 4),
-    "redshift": (4, 4),
-    "status": (4, 4),
-    "depth": (4, 4),
-    "normal": (12, 12),
-    "albedo": (24, 12),  # double sums over the samples, resolved to float32 after the radiance is freed
+    "max_drift": (4, 0),
+    "redshift": (4, 0),
+    "status": (4, 0),
+    "depth": (4, 0),
+    "normal": (12, 0),
+    "albedo": (24, 12),
     "albedo_normal": (24, 12),
 }
 #: Kept free beside the estimate: the interpreter, the extension, the scene and the samples in flight.
@@ -73,11 +70,12 @@ def render_bytes(width: int, height: int, *, aovs: Iterable[str]) -> int:
         The estimate, without the fixed cost of the process (:data:`_HEADROOM` covers that).
     """
     extra = set(aovs) & set(AOV_BYTES)
-    film = sum(AOV_BYTES[a][0] for a in extra)
-    kept = sum(AOV_BYTES[a][1] for a in extra)
-    # The core's peak holds the film and the radiance being resolved; once it returns, Python holds the
-    # image with its AOVs and what saving copies.
-    return int(width) * int(height) * max(_CORE + film, _IMAGE + kept + _SAVE)
+    film = _FILM + sum(AOV_BYTES[a][0] for a in extra)
+    image = _IMAGE + sum(AOV_BYTES[a][1] for a in extra)
+    # A render in passes holds two films while a pass runs (the finished passes', kept in case it is
+    # interrupted, and the one the core continues), then the film and the image resolved from it; saving
+    # copies less than the film that is then freed.
+    return int(width) * int(height) * max(2 * film, film + image)
 
 
 def _parse_bytes(text: str) -> int:

@@ -26,15 +26,19 @@ from __future__ import annotations
 
 import math
 import os
+import time
 from collections.abc import Callable
 
 import numpy as np
 
 from warpviz._native import core
-from warpviz.limits import MAX_EDGE_SAMPLES, MAX_SEED, MAX_SPP, image_side, tolerance_problem
+from warpviz.limits import (MAX_EDGE_SAMPLES, MAX_SEED, MAX_SPP, duration_seconds, image_side, noise_level,
+                            tolerance_problem)
 from warpviz.render.denoise import DENOISE_FEATURES, require_denoiser
 from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
+from warpviz.render.passes import PassesDone, PassReport, run_passes
+from warpviz.render.resume import film_from_image, read_exr, resume_problem, resume_settings, scene_sha256
 from warpviz.scene.native import native_scene
 from warpviz.spacetime import metric_from_params
 from warpviz.tracing import STEPPERS, RayBundle, default_max_drift, recorded_point_data
@@ -133,6 +137,10 @@ def render(
     progress: Callable[[int, int], object] | None = None,
     record_pixels=None,
     denoise: bool = False,
+    time_limit: float | str | None = None,
+    noise_target: float | None = None,
+    resume=None,
+    on_pass: Callable[[PassReport], object] | None = None,
 ) -> Image:
     """Path-trace a scene.
 
@@ -142,7 +150,8 @@ def render(
         A TOML scene file (or the bare name of a shipped scene, e.g. ``"fig07"``), a loaded scene, or a
         native scene dict.
     spp : int, optional, keyword-only
-        Samples per pixel (default: the scene's, else 16).
+        Samples per pixel to reach (default: the scene's, else 16; with ``time_limit`` or
+        ``noise_target`` and no ``spp``: no limit). With ``resume``, the total, the resumed ones counted.
     width, height : int, optional, keyword-only
         Image size in pixels (default: the scene's).
     seed : int, optional, keyword-only
@@ -223,7 +232,8 @@ def render(
         left). A pixel's samples do not depend on the window, so windows that tile the image give exactly
         the pixels of the whole render: a way to render an image larger than memory in parts.
     progress : callable, optional, keyword-only
-        Called about every 20 ms as ``progress(samples_done, samples_total)`` from the calling thread.
+        Called about every 20 ms as ``progress(samples_done, samples_total)`` from the calling thread
+        (samples of this call; with a time budget the total is projected from the speed so far).
         Raising ``KeyboardInterrupt`` in it stops the render like Ctrl-C.
     record_pixels : array_like of int, optional, keyword-only
         (K, 2) pixel coordinates (x, y) whose sampled paths are recorded into ``Image.rays``.
@@ -232,13 +242,34 @@ def render(
         ``pip install 'warpviz[denoise]'``), fed with the ``albedo`` and ``albedo_normal`` AOVs, which are
         then computed whatever ``aovs`` says (default False). ``Image.rgb`` stays the unbiased radiance;
         the denoised one is ``Image.denoised`` (:meth:`Image.denoise`).
+    time_limit : float or str, optional, keyword-only
+        A time budget for this call: seconds, or ``"2m"``, ``"1h30m"``. The render works in passes
+        (:mod:`warpviz.render.passes`: 1, 1, 2, 4, ... samples per pixel, at most ~2 million samples a
+        pass) and stops when the next pass would not fit (the last one is shrunk to fit; the first always
+        runs). The image depends only on the samples per pixel reached (``metadata["spp"]``), never on
+        threads or timing: a render that reached N equals ``render(spp=N)`` bit for bit.
+    noise_target : float, optional, keyword-only
+        Stop once the relative noise estimate (``metadata["noise"]``,
+        :func:`warpviz.render.passes.noise_estimate`: the root mean variance of the pixel means over the
+        mean radiance, over the lit pixels) is at most this (e.g. 0.02), checked after each pass.
+    resume : str, os.PathLike or Image, optional, keyword-only
+        An EXR (or its :class:`Image`) that a warpviz render wrote for the same scene and settings: its
+        samples are kept and passes added from where it stopped. Checked before any work; a mismatch
+        (another scene, size, seed, tolerance, ...) is a ValueError naming what differs. The result
+        equals one render of the total samples to float32 rounding. The AOVs are the image's.
+    on_pass : callable, optional, keyword-only
+        Called after every pass with a :class:`warpviz.render.passes.PassReport` (samples per pixel
+        reached, passes, seconds, time left, noise estimate).
 
     Returns
     -------
     Image
         ``rgb`` (H, W, 3) float32 linear radiance (H, W: the crop window's size, if one is given),
-        ``aovs``, ``stats``, ``rays`` and ``error_fraction`` (the fraction of samples whose path had a
-        geodesic that failed). After Ctrl-C the partial image is returned with ``completed=False``.
+        ``aovs`` (with ``variance``: (H, W, 3) the variance of each pixel mean, from its samples),
+        ``stats``, ``rays``, ``error_fraction`` (the fraction of samples whose path had a geodesic that
+        failed) and ``metadata`` (with ``spp`` reached, ``passes``, ``seconds``, ``noise`` and what
+        stopped the render, ``stopped_by``). After Ctrl-C or SIGTERM the finished passes are returned
+        with ``completed=False`` (the first pass's partial samples if none had finished).
 
     Raises
     ------
@@ -282,9 +313,6 @@ def render(
     options["edge_samples"] = _positive_int("edge_samples", options["edge_samples"])
     if options["edge_samples"] > MAX_EDGE_SAMPLES:
         raise ValueError(f"edge_samples must be 1-{MAX_EDGE_SAMPLES}, got {options['edge_samples']}")
-    if options["spp"] * options["edge_samples"] > MAX_SPP:
-        raise ValueError(f"spp x edge_samples must be at most {MAX_SPP} (2**31 - 1), got "
-                         f"{options['spp']} x {options['edge_samples']}; lower one of them")
     if options["pixel_sampler"] not in ("sobol", "independent"):
         raise ValueError(f"pixel_sampler must be 'sobol' or 'independent', got {options['pixel_sampler']!r}")
     if options["filter"] not in FILTER_RADII:
@@ -310,17 +338,64 @@ def render(
     options["aovs"] = _aov_names(options["aovs"])
     if not isinstance(denoise, (bool, np.bool_)):
         raise ValueError(f"denoise must be True or False, got {denoise!r}")
-    if denoise:
-        require_denoiser()  # before any work: a missing optional dependency is named at once
-        options["aovs"] += [a for a in DENOISE_FEATURES if a not in options["aovs"]]
+    limited = time_limit is not None or noise_target is not None
+    time_limit = None if time_limit is None else duration_seconds("time_limit", time_limit)
+    noise_target = None if noise_target is None else noise_level("noise_target", noise_target)
+    if on_pass is not None and not callable(on_pass):
+        raise ValueError("on_pass must be a callable(PassReport)")
+    # The samples per pixel to reach: spp, or with a time budget or noise target and no spp, as many as
+    # fit in the film's 32-bit counts.
+    target = options["spp"] if spp is not None or not limited else MAX_SPP // options["edge_samples"]
+    if target * options["edge_samples"] > MAX_SPP:
+        raise ValueError(f"spp x edge_samples must be at most {MAX_SPP} (2**31 - 1), got "
+                         f"{target} x {options['edge_samples']}; lower one of them")
     w, h = native["camera"]["width"], native["camera"]["height"]
     x0, y0, cw, ch = options["crop"] = _crop(options["crop"], w, h)
     options["record_pixels"] = _record_pixels(record_pixels, (x0, y0, cw, ch), (w, h))
-
     metric = _metric(native["metric"])  # validates the parameters with the metric's own messages
+    settings = resume_settings(options, native)
+    digest = scene_sha256(native)
+    start = PassesDone(film=None, spp=0, passes=0)
+    before = {"seconds": 0.0}
+    if resume is not None:  # checked before any work: a mismatch names what differs
+        prior, name = (resume, "the image") if isinstance(resume, Image) else (read_exr(resume), repr(str(resume)))
+        problem = resume_problem(prior, settings=settings, sha256=digest, aovs=options["aovs"] if aovs is not None else None,
+                                 name=name, scene=source)  # fmt: skip
+        if problem:
+            raise ValueError(f"resume: {problem}")
+        options["aovs"] = [a for a in OPTIONAL_AOVS if a in prior.aovs]
+        film = film_from_image(prior, options["aovs"])
+        saved = prior.metadata["resume"]
+        start = PassesDone(film=film, spp=int(prior.metadata["spp"]), passes=int(saved.get("passes", 0)))
+        start = PassesDone(film=film, spp=start.spp, passes=start.passes, noise=float(core.film_noise(film)))
+        before["seconds"] = float(prior.metadata.get("seconds") or 0.0)
+    elif denoise:
+        options["aovs"] += [a for a in DENOISE_FEATURES if a not in options["aovs"]]
+    if denoise:
+        require_denoiser()  # before any work: a missing optional dependency is named at once
     check_render_memory(cw, ch, aovs=options["aovs"], image=None if (cw, ch) == (w, h) else (w, h))
-    raw = core.render(native, options)
-    stats = _plain(raw["stats"])
+
+    core_options = {key: value for key, value in options.items() if key != "progress"}
+    core_options["record_samples"] = options["spp"]  # a recorded pixel's paths: its first spp samples
+
+    def render_range(extra: dict) -> dict:
+        return core.render(native, {**core_options, **extra})
+
+    t0 = time.perf_counter()
+    done, completed, stopped_by = run_passes(
+        render_range, start, npix=cw * ch, spp=target, seconds=time_limit, noise=noise_target,
+        clock=time.perf_counter, progress=progress, on_pass=on_pass)  # fmt: skip
+    if done.film is None:  # stopped before the first pass had rendered anything: nothing to return
+        raise KeyboardInterrupt
+    resolved = core.resolve_film(done.film)
+    film_samples = done.film["samples"]
+    if completed and progress is not None:
+        total = int(resolved["samples_total"]) - (int(start.film["samples"].sum()) if start.film else 0)
+        progress(total, total)
+    stats = {"segments_by_status": {}, "segments": 0, "steps": 0, "seconds": 0.0, "edge_pixels": 0,
+             "threads": 0, **_plain(done.stats)}  # fmt: skip
+    stats["samples"] = int(resolved["samples_total"])
+    stats["samples_with_errors"] = int(resolved["errors_total"])
     error_fraction = stats["samples_with_errors"] / stats["samples"] if stats["samples"] else 0.0
     stats["error_fraction"] = error_fraction
     metadata = {
@@ -328,25 +403,41 @@ def render(
         "metric_params": list(native["metric"].get("params", [])),
         "width": native["camera"]["width"],
         "height": native["camera"]["height"],
-        "spp": options["spp"],
+        "spp": done.spp,
         "seed": options["seed"],
         "stepper": options["stepper"],
         "tol": options["tol"],
         "max_depth": options["max_depth"],
         "light_sampling": bool(options["light_sampling"]),
+        "edge_samples": options["edge_samples"],
         "filter": options["filter"],
         "filter_radius": options["filter_radius"],
         "scene": source,
-        "completed": bool(raw["completed"]),
+        "completed": bool(completed),
         "error_fraction": error_fraction,
+        "passes": done.passes,
+        "seconds": before["seconds"] + (time.perf_counter() - t0),
+        "noise": None if math.isnan(done.noise) else done.noise,
+        "stopped_by": stopped_by,
+        "time_limit": time_limit,
+        "noise_target": noise_target,
+        "resume": {"resumable": done.spp > 0 and bool(np.all(film_samples > 0)), "passes": done.passes,
+                   "settings": settings, "scene_sha256": digest},
     }
     if (cw, ch) != (w, h):
         metadata["crop"] = [x0, y0, cw, ch]
-    rays = _bundle(raw["rays"], metric, options) if "rays" in raw else None
+    rays = _bundle(_concat_rays(done.rays), metric, options) if done.rays else None
+    # The AOVs in the core's order; the first-hit ones and max_drift are the film's own arrays.
+    aovs_out = {}
+    for name in ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal"):
+        value = resolved[name] if name in resolved else done.film[name]
+        if value is not None:
+            aovs_out[name] = value
+    aovs_out.update(errors=resolved["errors"], samples=resolved["samples"], variance=resolved["variance"])
     img = Image(
-        rgb=raw["rgb"],
-        aovs=dict(raw["aovs"]),
-        completed=bool(raw["completed"]),
+        rgb=resolved["rgb"],
+        aovs=aovs_out,
+        completed=bool(completed),
         stats=stats,
         metadata=metadata,
         rays=rays,
@@ -355,13 +446,32 @@ def render(
     return img.denoise() if denoise else img
 
 
+def _concat_rays(parts) -> dict:
+    """The recorded segments of several passes (the core's raw dicts) as one."""
+    parts = list(parts)
+    if len(parts) == 1:
+        return parts[0]
+    out = {"column_names": parts[0]["column_names"]}
+    offsets, base = [np.zeros(1, dtype=np.asarray(parts[0]["offsets"]).dtype)], 0
+    for p in parts:
+        off = np.asarray(p["offsets"])
+        offsets.append(off[1:] + base)
+        base += int(off[-1])
+    out["offsets"] = np.concatenate(offsets)
+    out["points"] = np.concatenate([np.asarray(p["points"]).reshape(-1, 3) for p in parts])
+    out["columns"] = np.concatenate([np.asarray(p["columns"]) for p in parts], axis=1)
+    for key in ("pixel_x", "pixel_y", "sample", "bounce", "kind", "status", "sheet"):
+        out[key] = np.concatenate([np.asarray(p[key]) for p in parts])
+    return out
+
+
 def _aov_names(value) -> list[str]:
     """The optional AOVs asked for, checked against :data:`OPTIONAL_AOVS`."""
     if isinstance(value, str) or not all(isinstance(a, str) for a in _iterable("aovs", value)):
         raise ValueError(f"aovs must be a list of AOV names (of {', '.join(OPTIONAL_AOVS)}), got {value!r}")
     names = []
     for a in value:
-        if a in ("errors", "samples"):
+        if a in ("errors", "samples", "variance"):
             continue  # always computed
         if a not in OPTIONAL_AOVS:
             raise ValueError(f"aovs: unknown AOV {a!r} (known: {', '.join(OPTIONAL_AOVS)}, errors, samples)")

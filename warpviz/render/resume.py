@@ -1,0 +1,255 @@
+"""Resuming a render from its EXR: what must match, and the film its channels give back.
+
+An EXR written by a warpviz render holds, beside the radiance and its AOVs, the ``variance`` of every
+pixel mean and ``samples`` per pixel, and in its ``warpviz`` header the samples per pixel reached
+(``spp``), the settings that decide what a sample adds (:data:`RESUME_SETTINGS`, with the image size
+and the metric) and a digest of the whole native scene (:func:`scene_sha256`). ``render(resume=)`` (and
+``warpviz render --resume``) checks all of them against the render asked for before any work
+(:func:`resume_problem`: a mismatch names the setting and both values), rebuilds the film's sums from
+the channels (:func:`film_from_image`) and adds samples ``[spp, ...)``: the result equals one render of
+the total to float32 rounding (the resumed radiance was stored as float32 means).
+
+Examples
+--------
+>>> a = scene_sha256({"metric": {"name": "minkowski", "params": []}, "camera": {"fov": 40.0}})
+>>> b = scene_sha256({"camera": {"fov": 40.0}, "metric": {"params": [], "name": "minkowski"}})
+>>> a == b, len(a)   # key order does not matter
+(True, 64)
+>>> a == scene_sha256({"metric": {"name": "minkowski", "params": []}, "camera": {"fov": 41.0}})
+False
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["RESUME_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "resume_problem", "film_from_image"]
+
+#: The render options that decide what each sample adds (so a resumed image must have been rendered with
+#: the same); spp, threads, batch (bit-identical either way), progress and the limits do not.
+RESUME_SETTINGS = ("seed", "max_depth", "rr_depth", "light_sampling", "stepper", "tol", "max_steps",
+                   "escape_radius", "max_drift", "chord_tolerance", "light_connection", "lens_images",
+                   "pixel_sampler", "edge_samples", "filter", "filter_radius", "aim_lights", "light_margin",
+                   "pilot_tol", "crop")  # fmt: skip
+
+
+def _digest(node, h) -> None:
+    if isinstance(node, dict):
+        h.update(b"{")
+        for key in sorted(node, key=str):
+            h.update(json.dumps(str(key)).encode())
+            _digest(node[key], h)
+        h.update(b"}")
+    elif isinstance(node, (list, tuple)):
+        h.update(b"[")
+        for item in node:
+            _digest(item, h)
+        h.update(b"]")
+    elif isinstance(node, np.ndarray):
+        arr = np.ascontiguousarray(node)
+        h.update(f"array:{arr.dtype.str}:{arr.shape}:".encode())
+        h.update(arr.tobytes())
+    elif isinstance(node, (np.generic,)):
+        _digest(node.item(), h)
+    else:
+        h.update(json.dumps(node).encode())
+
+
+def scene_sha256(native: dict) -> str:
+    """SHA-256 (hex) of a native scene dict: its keys in sorted order, values, and arrays' dtypes,
+    shapes and bytes (textures, meshes)."""
+    h = hashlib.sha256()
+    _digest(native, h)
+    return h.hexdigest()
+
+
+def resume_settings(options: dict, native: dict) -> dict:
+    """The settings a resumed render must share with its image: :data:`RESUME_SETTINGS`, the image size
+    and the metric with its parameters (JSON types)."""
+    out = {key: options[key] for key in RESUME_SETTINGS}
+    out["crop"] = list(out["crop"]) if out["crop"] is not None else None
+    out["size"] = [int(native["camera"]["width"]), int(native["camera"]["height"])]
+    out["metric"] = native["metric"]["name"]
+    out["metric_params"] = [float(p) for p in native["metric"].get("params", [])]
+    return json.loads(json.dumps(out))
+
+
+def read_exr(path: str | os.PathLike):
+    """An EXR that warpviz wrote, as an :class:`warpviz.render.image.Image`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    warpviz.render.image.Image
+        ``rgb``, every AOV channel (``name.X/Y/Z`` and ``variance.R/G/B`` put back together), the
+        header's metadata; ``completed`` from it; no ``denoised`` (a resumed render denoises again).
+
+    Raises
+    ------
+    ValueError
+        The file cannot be read as an EXR, or has no warpviz header.
+    """
+    import OpenEXR
+
+    from warpviz.render.image import Image
+
+    path = Path(path)
+    try:
+        with OpenEXR.File(str(path)) as f:
+            header = dict(f.header())
+            channels = {name: np.asarray(ch.pixels) for name, ch in f.channels().items()}
+    except Exception as exc:  # noqa: BLE001 - OpenEXR raises plain exceptions for any unreadable file
+        raise ValueError(f"{str(path)!r} cannot be read as an OpenEXR image ({exc})") from None
+    text = header.get("warpviz")
+    try:
+        metadata = json.loads(text) if isinstance(text, (str, bytes)) else None
+    except json.JSONDecodeError:
+        metadata = None
+    if not isinstance(metadata, dict):
+        raise ValueError(f"{str(path)!r} has no warpviz header: it was not written by a warpviz render")
+    if "RGB" in channels:  # OpenEXR groups R, G, B into one (H, W, 3) channel
+        rgb = channels.pop("RGB")
+    else:
+        try:
+            rgb = np.stack([channels.pop(c) for c in "RGB"], axis=-1)
+        except KeyError:
+            raise ValueError(f"{str(path)!r} has no R, G, B channels") from None
+    aovs: dict[str, np.ndarray] = {}
+    groups: dict[str, dict[str, np.ndarray]] = {}
+    for name, arr in channels.items():
+        if "." in name:
+            base, part = name.rsplit(".", 1)
+            if arr.ndim == 3:  # grouped by OpenEXR: base.XYZ as one (H, W, 3) channel
+                groups.setdefault(base, {})["*"] = arr
+            else:
+                groups.setdefault(base, {})[part] = arr
+        else:
+            aovs[name] = np.asarray(arr, dtype=np.float32)
+    for base, parts in groups.items():
+        if base == "denoised":
+            continue
+        if "*" in parts:
+            aovs[base] = np.asarray(parts["*"], dtype=np.float32)
+            continue
+        order = "RGB" if set(parts) == set("RGB") else "XYZ"
+        if set(parts) != set(order):
+            continue  # not one of warpviz's (H, W, 3) AOVs
+        aovs[base] = np.stack([parts[c] for c in order], axis=-1).astype(np.float32)
+    return Image(rgb=np.asarray(rgb, dtype=np.float32), aovs=aovs, completed=bool(metadata.get("completed", True)),
+                 stats={}, metadata=metadata)  # fmt: skip
+
+
+def resume_problem(img, *, settings: dict, sha256: str, aovs: list[str] | None, name: str,
+                   scene: str | None = None) -> str | None:
+    """Why the render asked for cannot continue image ``img``, or None.
+
+    Parameters
+    ----------
+    img : warpviz.render.image.Image
+        The image to continue (:func:`read_exr`).
+    settings : dict
+        The render's :func:`resume_settings`.
+    sha256 : str
+        The render's :func:`scene_sha256`.
+    aovs : list of str or None
+        The optional AOVs the render asks for, None: whatever the image has.
+    name : str
+        How to name the image in a message (its file).
+    scene : str, optional
+        The render's scene file (None: a scene not from a file).
+
+    Returns
+    -------
+    str or None
+        A sentence naming what differs (with both values), or None when it can be continued.
+    """
+    meta = img.metadata
+    if "resume" not in meta or "variance" not in img.aovs or "samples" not in img.aovs:
+        return (f"{name} cannot be resumed: it was written by a warpviz render that does not record its samples' "
+                "variance and settings (render it again)")  # fmt: skip
+    saved = meta["resume"]
+    if not saved.get("resumable", False):
+        return (f"{name} cannot be resumed: it holds only part of its first pass (the render was stopped before "
+                "any pass finished); render it again")  # fmt: skip
+    old = saved.get("settings", {})
+    if scene is not None and meta.get("scene") is not None and Path(meta["scene"]).name != Path(scene).name:
+        return f"{name} was rendered from another scene ({Path(meta['scene']).name}; this render is of {Path(scene).name})"
+    for key in ("size", "metric", "metric_params", *RESUME_SETTINGS):
+        if old.get(key) != settings.get(key):
+            return f"{name} was rendered with {key} = {_show(old.get(key))}; this render has {key} = {_show(settings.get(key))}"
+    if saved.get("scene_sha256") != sha256:
+        where = f" ({Path(meta['scene']).name})" if meta.get("scene") else ""
+        return (f"{name} was rendered from another scene{where}, or the scene has changed since: its objects, "
+                "camera or lights differ from this render's")  # fmt: skip
+    if aovs is not None:
+        have = sorted(k for k in img.aovs if k not in ("errors", "samples", "variance"))
+        if sorted(aovs) != have:
+            return (f"{name} keeps the AOVs {have or 'none'}; this render asks for {sorted(aovs) or 'none'} (a resumed "
+                    "render keeps the image's)")  # fmt: skip
+    spp = meta.get("spp")
+    counts = np.asarray(img.aovs["samples"])
+    edge = int(old.get("edge_samples", 1))
+    if not isinstance(spp, int) or spp < 1 or not np.isin(counts, (spp, spp * edge)).all():
+        return f"{name}'s samples per pixel do not match its header's spp = {spp!r}: it was not written whole"
+    return None
+
+
+def _show(value) -> str:
+    return "none" if value is None else json.dumps(value)
+
+
+def film_from_image(img, aovs: list[str]) -> dict:
+    """The core film (sums and counts) whose resolution is ``img``: means times samples, squares from the
+    variance of the mean (``variance n (n - 1) + n mean**2``), error counts from the error fractions.
+
+    Parameters
+    ----------
+    img : warpviz.render.image.Image
+        A resumable image (:func:`resume_problem` found nothing).
+    aovs : list of str
+        The optional AOVs of the film (the image's).
+
+    Returns
+    -------
+    dict
+        The film dict ``_core.render`` continues (``options["film"]``).
+    """
+    n = np.asarray(img.aovs["samples"], dtype=np.float64)
+    n3 = n[..., None]
+    mean = np.asarray(img.rgb, dtype=np.float64)
+    var = np.nan_to_num(np.asarray(img.aovs["variance"], dtype=np.float64), nan=0.0)
+    crop = img.metadata.get("crop") or [0, 0]
+
+    def per_pixel(name, scale=None):
+        if name not in aovs:
+            return None
+        arr = np.asarray(img.aovs[name], dtype=np.float64 if scale is not None else np.float32)
+        if scale is not None:
+            arr = arr * (scale if arr.ndim == 2 else scale[..., None])
+        return np.ascontiguousarray(arr)
+
+    return {
+        "x0": int(crop[0]),
+        "y0": int(crop[1]),
+        "rgb_sum": np.ascontiguousarray(mean * n3),
+        "rgb_sq_sum": np.ascontiguousarray(var * n3 * np.maximum(n3 - 1, 0) + n3 * mean * mean),
+        "samples": np.ascontiguousarray(n.astype(np.int32)),
+        "errors": np.ascontiguousarray(np.rint(np.asarray(img.aovs["errors"], np.float64) * n).astype(np.int32)),
+        "steps_sum": per_pixel("n_steps", n),
+        "max_drift": per_pixel("max_drift"),
+        "redshift": per_pixel("redshift"),
+        "status": per_pixel("status"),
+        "depth": per_pixel("depth"),
+        "normal": per_pixel("normal"),
+        "albedo_sum": per_pixel("albedo", n),
+        "albedo_normal_sum": per_pixel("albedo_normal", n),
+    }
