@@ -1,10 +1,12 @@
-"""tools/make_gallery.py's quality settings (nothing is rendered here: the classroom gallery takes hours)."""
+"""tools/make_gallery.py: the qualities' settings, the commands a user types, and a quick gallery built,
+interrupted and resumed picture by picture (the classroom gallery itself takes ~50 minutes)."""
 
 from __future__ import annotations
 
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
@@ -16,21 +18,71 @@ ROOMS = {"fig03", "fig07", "fig08", "fig10a", "fig10b", "fig10c", "fig10d", "fig
 
 
 @pytest.mark.parametrize("name", ["fig02", "fig04", "fig07", "fig10e", "fig11a", "fig13"])
-def test_classroom_quality_is_classroom_sized_with_rooms_at_many_samples(name):
+def test_classroom_quality_is_classroom_sized_with_time_budgets(name):
     scene = load_scene(name)
     assert make_gallery.is_room(scene) == (name in ROOMS)
-    s = make_gallery.settings(scene, "classroom", spp=None, denoise=None)
-    assert s["size"][0] >= 640 and s["size"][1] >= 480
-    assert s["spp"] == (1024 if name in ROOMS else 64) and s["denoise"] is False
-    assert make_gallery.settings(scene, "classroom", spp=8, denoise=True) == {"size": (640, 480), "spp": 8,
-                                                                             "denoise": True}
-    ci = make_gallery.settings(scene, "ci", spp=None, denoise=None)
-    assert ci == {"size": None, "spp": None, "denoise": False}  # each scene's own: what CI renders
+    s = make_gallery.settings(scene, "classroom")
+    assert s["size"][0] >= 640 and s["size"][1] >= 480 and s["spp"] is None
+    # rooms at most 4 minutes and denoised (the EXR keeps the unbiased radiance), the rest at most 1
+    assert s["seconds"] == (240 if name in ROOMS else 60) and s["denoise"] == (name in ROOMS)
+    assert make_gallery.settings(scene, "classroom", spp=8, denoise=False) == {"size": (640, 480), "spp": 8,
+                                                                              "seconds": None, "denoise": False}
+    ci = make_gallery.settings(scene, "ci")
+    assert ci == {"size": None, "spp": None, "seconds": None, "denoise": False}  # each scene's own: what CI renders
 
 
 def test_commands_are_the_ones_a_user_types():
-    s = {"size": (640, 480), "spp": 1024, "denoise": True}
+    s = {"size": (640, 480), "spp": None, "seconds": 240.0, "denoise": True}
     assert (make_gallery.command("scenes/fig07_schwarzschild_cornell.toml", "fig07", s)
-            == "warpviz render scenes/fig07_schwarzschild_cornell.toml --size 640x480 --spp 1024 --denoise -o fig07.png")
-    assert (make_gallery.command("scenes/fig02_accretion_disk.toml", "fig02", {"size": None, "spp": None, "denoise": False})
-            == "warpviz render scenes/fig02_accretion_disk.toml -o fig02.png")  # the README's ci table, unchanged
+            == "warpviz render scenes/fig07_schwarzschild_cornell.toml --size 640x480 --time 4m --denoise -o fig07.png")
+    assert (make_gallery.command("scenes/fig02_accretion_disk.toml", "fig02",
+                                 {"size": None, "spp": None, "seconds": None, "denoise": False})
+            == "warpviz render scenes/fig02_accretion_disk.toml -o fig02.png")  # the ci table, unchanged
+
+
+def test_a_quick_gallery_is_built_picture_by_picture_and_resumed(tmp_path, monkeypatch):
+    out, work, readme = tmp_path / "pictures", tmp_path / "work", tmp_path / "README.md"
+    readme.write_text("# x\n\n<!-- gallery -->\nold\n<!-- /gallery -->\n\nafter\n")
+    args = ["--quality", "quick", "--out", str(out), "--work", str(work), "--readme", str(readme)]
+    assert make_gallery.main([*args, "--only", "fig04", "fig07"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["fig04.png", "fig07.png"]
+    text = readme.read_text()
+    assert "old" not in text and text.endswith("<!-- /gallery -->\n\nafter\n")
+    row = next(line for line in text.splitlines() if "fig07.png" in line and "--time" in line)
+    assert "32×24" in row and " spp" in row and "denoised" in row
+    assert "not rendered at this quality yet" in next(line for line in text.splitlines() if "fig02" in line)
+    meta = make_gallery.png_metadata(out / "fig07.png")
+    assert meta["time_limit"] is not None and meta["spp"] >= 1
+
+    # a picture stopped half-way keeps its passes; the next run continues it with what is left of its budget
+    import warpviz as wv
+
+    real = wv.render
+    stopped = []
+
+    def stop_after_a_pass(scene, **kw):
+        reports = []
+
+        def on_pass(report):
+            reports.append(report)
+            if len(reports) == 2:
+                stopped.append(report.spp)
+                raise KeyboardInterrupt
+
+        return real(scene, on_pass=on_pass, **kw)
+
+    monkeypatch.setattr(wv, "render", stop_after_a_pass)
+    assert make_gallery.main([*args, "--only", "fig02"]) == 130
+    kept = wv.Image.open(work / "fig02.exr")
+    assert not kept.completed and kept.metadata["spp"] == stopped[0] and not (out / "fig02.png").exists()
+    monkeypatch.setattr(wv, "render", real)
+    assert make_gallery.main([*args, "--only", "fig02"]) == 0
+    done = wv.Image.open(work / "fig02.exr")
+    assert done.completed and done.metadata["spp"] > stopped[0] and (out / "fig02.png").is_file()
+    assert done.metadata["seconds"] == pytest.approx(0.5, abs=0.4)  # one budget over both runs
+
+    # a picture that had its budget is kept, not rendered again
+    before = (work / "fig04.exr").stat().st_mtime_ns
+    assert make_gallery.main([*args, "--only", "fig04"]) == 0
+    assert (work / "fig04.exr").stat().st_mtime_ns == before
+    np.testing.assert_array_equal(wv.Image.open(work / "fig04.exr").rgb, wv.Image.open(work / "fig04.exr").rgb)

@@ -134,7 +134,7 @@ def test_scene_values_reach_the_native_dict():
     native = scene.native(width=33, height=21)
     assert native["metric"] == {"name": "kerr", "params": [scene.metric.mass, 0.9]}
     assert (native["camera"]["width"], native["camera"]["height"]) == (33, 21)
-    assert native["camera"]["position"] == [0.0, -45.0, 0.0]
+    assert native["camera"]["position"] == [0.0, -110.0, 0.0]
     assert scene.render_settings() == {"spp": 8, "seed": 1, "max_depth": 6}
     assert scene.render_settings(paper=True) == {"spp": 1024, "seed": 1, "max_depth": 6}
     assert scene.size(paper=True) == (1024, 768)

@@ -107,7 +107,10 @@ inline double mean_variance(const FilmSums& f, size_t i, int k) {
 
 // The relative noise of the image (warpviz/render/passes.py: noise_estimate): the root mean variance of the
 // pixel means over their mean radiance, both over the lit pixels (a channel's mean above 0) and channels;
-// 0 where no pixel is lit, NaN while a lit pixel has fewer than 2 samples.
+// 0 where no pixel is lit, NaN while a lit pixel has fewer than 2 samples. The samples' variance / n is
+// right for independent samples and an upper bound for the stratified pixel positions (Sobol), whose
+// mean converges faster where an edge crosses the pixel. (Splitting the samples by index parity instead
+// does not work for Sobol points: the even and odd ones lie in opposite halves of the pixel.)
 inline double noise(const FilmSums& f) {
   double var = 0.0, level = 0.0;
   size_t lit = 0;

@@ -91,9 +91,13 @@ def noise_estimate(mean: np.ndarray, variance: np.ndarray) -> float:
     """Relative noise of an image: the root mean variance of its pixel means over the mean radiance, both
     over the lit pixels (any channel above 0) and channels.
 
-    Its square estimates the relative MSE against the converged image over those pixels (the benchmarks'
-    measure, restricted to lit pixels), if the samples' variance is finite: a firefly that no sample has
-    found yet is not in it.
+    With the renderer's ``variance`` AOV (each pixel's sample variance over its sample count) its square
+    estimates the relative MSE against the converged image over those pixels (the benchmarks' measure,
+    restricted to lit pixels) for independent samples, and bounds it from above for the default stratified
+    pixel positions (``pixel_sampler="sobol"``), which average a sharp edge inside a pixel faster than
+    independent samples would: measured at 32 spp, the true MSE is 0.9x the estimate with independent
+    samples, 0.1x in the flat room with its lamp in view (fig03) and 0.26x in fig07. A firefly that no
+    sample has found yet is in neither.
 
     Parameters
     ----------
