@@ -223,3 +223,28 @@ def test_edge_samples_benchmark_quick_mode(tmp_path):
                                                                   read_csv(tmp_path / "edge_samples.csv")]
     assert rows[0]["edge_pixels"] == 0 < rows[-1]["edge_pixels"] and rows[0]["over_off"] == 1.0
     assert all(r["rel_mse"] > 0 and r["cpu_s"] > 0 for r in rows)
+
+
+@pytest.mark.skipif(importlib.util.find_spec("pyoidn") is None,
+                    reason="pyoidn (Intel Open Image Denoise) is not installed: pip install 'warpviz[denoise]'")
+def test_time_to_clean_benchmark_quick_mode_builds_its_reference_in_pieces(tmp_path):
+    import bench_time_to_clean
+
+    cache = tmp_path / "refs"
+    args = ["--quick", "--scenes", "fig07", "--out", str(tmp_path), "--cache", str(cache)]
+    bench_time_to_clean.main(args)
+    first = wv_spp(cache)
+    summary = bench_time_to_clean.main(args)  # the reference grows by another second per half
+    assert wv_spp(cache) > first
+    rows = read_csv(tmp_path / "time_to_clean.csv")
+    assert {r["method"] for r in rows} == {"noisy", "denoised"} and {int(r["spp"]) for r in rows} == {1, 4}
+    noisy = sorted((int(r["spp"]), float(r["rel_mse"])) for r in rows if r["method"] == "noisy")
+    assert noisy[1][1] < noisy[0][1]  # more samples, less error
+    assert {s["method"] for s in summary} == {"noisy", "denoised"}
+    assert all(s["how"] in ("interpolated", "extrapolated", "reached by the first run", "not reached") for s in summary)
+
+
+def wv_spp(cache: Path) -> int:
+    import warpviz as wv
+
+    return sum(int(wv.Image.open(p).metadata["spp"]) for p in sorted(cache.glob("*.exr")))

@@ -1,0 +1,170 @@
+"""Time to a clean picture: how long a room takes, on every core, until its relative MSE against a
+converged reference is at most ``--target`` (default 1e-3), denoised and not.
+
+For each scene (default fig07 and fig10d) at ``--size`` (default 640x480):
+
+1. **The reference** is two renders of independent seeds, each kept as an EXR in ``--cache`` (default
+   ``build/bench-references``) and continued with ``render(resume=)`` by up to ``--ref-time`` seconds per
+   run, towards ``--ref-spp`` samples per pixel: a reference of hours is built over several runs. Their
+   mean is the reference; their difference gives its own noise, which is subtracted from every MSE
+   (the measurement is unbiased however noisy the reference, but only meaningful once the reference's
+   noise is well below the target: the table says how far below).
+2. **The renders**: one render per entry of ``--spp`` (fresh, every core, seed 1), timed (wall clock),
+   then denoised (Intel Open Image Denoise, its time added). The relative MSE is the mean squared error
+   over pixels and channels divided by the squared mean of the reference, less the reference's noise.
+3. **Time to the target**: interpolated log-log on each method's runs (``time_at_error``); where the
+   largest run is still above the target the time is extrapolated with MSE proportional to 1 / time (the
+   unbiased estimate's rate; marked ``extrapolated``). A denoised image's error stops falling at its bias,
+   so it is never extrapolated.
+
+    python benchmarks/bench_time_to_clean.py --ref-time 600        # add 10 minutes to each reference, measure
+    python benchmarks/bench_time_to_clean.py --size 160x120        # the whole thing in ~15 minutes on 2 cores
+    python benchmarks/bench_time_to_clean.py --quick               # seconds
+    warpviz bench time-to-clean --quick
+
+Writes ``time_to_clean.csv`` (one row per scene, method and spp) and ``time_to_clean_summary.csv`` (one
+row per scene and method) to ``--out`` (default benchmarks/results) and prints a table. Needs ``pyoidn``
+(``pip install 'warpviz[denoise]'``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import warpviz as wv
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import RESULTS, machine_line, time_at_error, write_csv  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def rel_mse(image: np.ndarray, ref: np.ndarray, ref_noise: float) -> float:
+    """Mean squared error over pixels and channels over the squared mean of ``ref``, less the reference's
+    own relative noise (may be slightly below 0 when the image is as good as the reference)."""
+    mse = float(np.mean((np.asarray(image, np.float64) - ref) ** 2)) / float(np.mean(ref)) ** 2
+    return mse - ref_noise
+
+
+def reference(scene: str, w: int, h: int, *, cache: Path, seconds: float, spp: int) -> tuple[np.ndarray, float, int]:
+    """The reference of ``scene`` at w x h: its two halves continued by up to ``seconds`` each towards
+    ``spp``; returns (mean image, its relative noise, samples per pixel of each half)."""
+    cache.mkdir(parents=True, exist_ok=True)
+    halves = []
+    for k in (0, 1):
+        path = cache / f"{scene}-{w}x{h}-seed{1000 + k}.exr"
+        kw = {"width": w, "height": h, "seed": 1000 + k, "aovs": [], "progress": None}
+        prior = path if path.is_file() else None
+        if seconds > 0:
+            img = wv.render(scene, spp=spp, time_limit=seconds, resume=prior, **kw)
+            img.save(path)
+        elif prior is None:
+            raise SystemExit(f"no reference {path} yet: run with --ref-time S to build it")
+        halves.append(wv.Image.open(path))
+    a, b = (np.asarray(x.rgb, np.float64) for x in halves)
+    ref = 0.5 * (a + b)
+    noise = float(np.mean((a - b) ** 2)) / 4.0 / float(np.mean(ref)) ** 2
+    return ref, noise, min(int(x.metadata["spp"]) for x in halves)
+
+
+def extrapolated_time(times: list[float], errors: list[float], target: float) -> float:
+    """The time at which an unbiased estimate (MSE proportional to 1 / time) reaches ``target``, from its
+    longest run."""
+    i = int(np.argmax(times))
+    return times[i] * errors[i] / target if errors[i] > 0 else math.nan
+
+
+def measure(scene: str, w: int, h: int, spps: list[int], ref: np.ndarray, ref_noise: float, threads: int) -> list[dict]:
+    rows = []
+    for spp in spps:
+        t0 = time.perf_counter()
+        img = wv.render(scene, width=w, height=h, spp=spp, seed=1, threads=threads, progress=None,
+                        aovs=["albedo", "albedo_normal"])  # fmt: skip
+        t_render = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        den = img.denoise()
+        t_denoise = time.perf_counter() - t0
+        for method, image, seconds in (("noisy", img.rgb, t_render), ("denoised", den.denoised, t_render + t_denoise)):
+            rows.append({"scene": scene, "width": w, "height": h, "method": method, "spp": spp,
+                         "wall_s": seconds, "rel_mse": rel_mse(image, ref, ref_noise),
+                         "noise_estimate": img.metadata["noise"], "ref_rel_noise": ref_noise})  # fmt: skip
+    return rows
+
+
+def summarise(rows: list[dict], target: float, ref_spp: int) -> list[dict]:
+    out = []
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        for method in ("noisy", "denoised"):
+            runs = [r for r in rows if r["scene"] == scene and r["method"] == method]
+            times, errors = [r["wall_s"] for r in runs], [r["rel_mse"] for r in runs]
+            t = time_at_error(times, [max(e, 1e-300) for e in errors], target)
+            how = "interpolated"
+            if math.isnan(t) and method == "noisy" and min(errors) > target:
+                t, how = extrapolated_time(times, errors, target), "extrapolated"
+            elif math.isnan(t):
+                how = "reached by the first run" if max(errors) <= target else "not reached"
+                t = min(times) if max(errors) <= target else math.nan
+            out.append({"scene": scene, "width": runs[0]["width"], "height": runs[0]["height"], "method": method,
+                        "target_rel_mse": target, "seconds_to_target": t, "how": how,
+                        "ref_spp": ref_spp, "ref_rel_noise": runs[0]["ref_rel_noise"]})  # fmt: skip
+    return out
+
+
+def main(argv: list[str] | None = None) -> list[dict]:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="tiny problems for a smoke test (seconds)")
+    parser.add_argument("--scenes", default="fig07,fig10d", help="comma-separated shipped rooms")
+    parser.add_argument("--size", default=None, help="WIDTHxHEIGHT (default 640x480; --quick 24x18)")
+    parser.add_argument("--spp", default=None, help="comma-separated samples per pixel of the timed renders "
+                        "(default 1,2,4,8,16,32; --quick 1,4)")  # fmt: skip
+    parser.add_argument("--target", type=float, default=1e-3, help="relative MSE to reach (default 1e-3)")
+    parser.add_argument("--ref-time", type=float, default=None,
+                        help="seconds added to each reference half this run (default 0: use what is cached; --quick 1)")
+    parser.add_argument("--ref-spp", type=int, default=None, help="samples per pixel each reference half aims at "
+                        "(default 4096; --quick 64)")  # fmt: skip
+    parser.add_argument("--cache", type=Path, default=ROOT / "build" / "bench-references",
+                        help="folder of the reference EXRs (kept between runs)")
+    parser.add_argument("--threads", type=int, default=0, help="render threads (default 0: every core, as a user renders)")
+    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default benchmarks/results)")
+    args = parser.parse_args(argv)
+    from warpviz.render.denoise import require_denoiser
+
+    require_denoiser()
+    w, h = (int(v) for v in (args.size or ("24x18" if args.quick else "640x480")).lower().split("x"))
+    spps = [int(s) for s in (args.spp or ("1,4" if args.quick else "1,2,4,8,16,32")).split(",")]
+    ref_time = args.ref_time if args.ref_time is not None else (1.0 if args.quick else 0.0)
+    ref_spp = args.ref_spp or (64 if args.quick else 4096)
+    rows, refs = [], {}
+    for scene in args.scenes.split(","):
+        ref, ref_noise, have = reference(scene, w, h, cache=args.cache, seconds=ref_time, spp=ref_spp)
+        refs[scene] = (have, ref_noise)
+        rows += measure(scene, w, h, spps, ref, ref_noise, args.threads)
+    summary = []
+    for scene, (have, _) in refs.items():
+        summary += summarise([r for r in rows if r["scene"] == scene], args.target, have)
+
+    print(machine_line(threads=args.threads))
+    for scene, (have, noise) in refs.items():
+        print(f"{scene} {w}x{h}: reference 2 x {have} spp, its relative noise {noise:.2e} "
+              f"({noise / args.target:.2g} of the target)")
+    print(f"{'scene':8s} {'method':9s} {'spp':>5s} {'wall s':>8s} {'rel MSE':>10s}")
+    for r in rows:
+        print(f"{r['scene']:8s} {r['method']:9s} {r['spp']:5d} {r['wall_s']:8.2f} {r['rel_mse']:10.3e}")
+    print(f"time to relative MSE {args.target:g}:")
+    for s in summary:
+        print(f"  {s['scene']:8s} {s['method']:9s} {s['seconds_to_target']:8.1f} s ({s['how']})")
+    args.out.mkdir(parents=True, exist_ok=True)
+    write_csv(args.out / "time_to_clean.csv", rows)
+    write_csv(args.out / "time_to_clean_summary.csv", summary)
+    return summary
+
+
+if __name__ == "__main__":
+    main()
+    raise SystemExit(0)
