@@ -46,13 +46,14 @@ def test_a_quick_gallery_is_built_picture_by_picture_and_resumed(tmp_path, monke
     out, work, readme = tmp_path / "pictures", tmp_path / "work", tmp_path / "README.md"
     readme.write_text("# x\n\n<!-- gallery -->\nold\n<!-- /gallery -->\n\nafter\n")
     args = ["--quality", "quick", "--out", str(out), "--work", str(work), "--readme", str(readme)]
-    assert make_gallery.main([*args, "--only", "fig04", "fig07"]) == 0
-    assert sorted(p.name for p in out.iterdir()) == ["fig04.png", "fig07.png"]
+    assert make_gallery.main([*args, "--only", "fig04", "fig07", "fig06a"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["fig04.png", "fig06a.png", "fig06a_swatch.png", "fig07.png"]
     text = readme.read_text()
     assert "old" not in text and text.endswith("<!-- /gallery -->\n\nafter\n")
     row = next(line for line in text.splitlines() if "fig07.png" in line and "--time" in line)
     assert "32×24" in row and " spp" in row and "denoised" in row
     assert "not rendered at this quality yet" in next(line for line in text.splitlines() if "fig02" in line)
+    assert "fig06a_swatch.png" in text and "the picture alone" in text  # the paper's companion, shown
     meta = make_gallery.png_metadata(out / "fig07.png")
     assert meta["time_limit"] is not None and meta["spp"] >= 1
 
@@ -88,3 +89,26 @@ def test_a_quick_gallery_is_built_picture_by_picture_and_resumed(tmp_path, monke
     assert make_gallery.main([*args, "--only", "fig04"]) == 0
     assert (work / "fig04.exr").stat().st_mtime_ns == before
     np.testing.assert_array_equal(wv.Image.open(work / "fig04.exr").rgb, wv.Image.open(work / "fig04.exr").rgb)
+
+
+def test_the_companions_mark_what_the_paper_marks(tmp_path):
+    """fig05: both images of the marked star found and marked, the primary the farther one; fig08: the
+    inset lies inside the picture."""
+    import gallery_companions as gc
+    from PIL import Image
+
+    import warpviz as wv
+
+    scene = load_scene("fig05")
+    img = wv.render(scene, width=160, height=120, spp=4, aovs=[])
+    img.save(tmp_path / "fig05.exr")
+    img.save(tmp_path / "fig05.png")
+    out = gc.make_companion("fig05", scene, tmp_path / "fig05.png", tmp_path / "fig05.exr")
+    assert out == tmp_path / "fig05_marked.png" and Image.open(out).size == (2 * 160 + 8, 120)
+    found = gc.patches(gc._marked_star(np.asarray(img.rgb), scene.native()["environment"]["spots"][0]["color"]))
+    assert len(found) >= 2  # primary and secondary images
+    cx, cy = gc.project(scene.native(width=160, height=120)["camera"], [0, 0, 0])
+    (x1, y1), (x2, y2) = (p.mean(axis=0) for p in found[:2])
+    # on opposite sides of the hole: the secondary image lies across the centre from the primary
+    assert (x1 - cx) * (x2 - cx) + (y1 - cy) * (y2 - cy) < 0
+    assert gc.companion_path(tmp_path, "fig07") is None

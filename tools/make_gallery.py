@@ -24,7 +24,9 @@ The table takes each picture's size, samples per pixel, noise and render time fr
 and names the machine; a scene not yet rendered at the quality keeps its ``ci`` picture, marked as such.
 
 Each picture is what the command in its row makes (the command line's defaults and the scene's
-``[outputs]`` tonemap and exposure): the gallery is exactly what a user gets.
+``[outputs]`` tonemap and exposure): the gallery is exactly what a user gets. Figures 5, 6 and 8 are shown
+with the companion the paper gives them (:mod:`gallery_companions`: the undistorted star field with the
+images marked, the undistorted swatch, the enlarged glass ball), the plain picture linked.
 """
 
 from __future__ import annotations
@@ -39,6 +41,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from gallery_companions import companion_path, make_companion  # noqa: E402
+
 GALLERY = ROOT / "docs" / "gallery"
 START, END = "<!-- gallery -->", "<!-- /gallery -->"
 
@@ -170,6 +175,9 @@ def render_picture(scene, short: str, s: dict, *, out: Path, work: Path, log=pri
     spent = float(prior.metadata.get("seconds") or 0.0) if prior is not None else 0.0
     if prior is not None and _done(prior.metadata, s) and png_metadata(png) is not None:
         log(f"{short}: done ({prior.metadata['spp']} spp, {spent:.0f} s), kept")
+        companion = companion_path(out, short)
+        if companion is not None and not companion.is_file():
+            make_companion(short, scene, png, exr)
         return png_metadata(png)
     left = None if s["seconds"] is None else max(1e-3, s["seconds"] - spent)  # the first pass always runs
     kwargs = {"spp": s["spp"], "width": width, "height": height, "aovs": aovs, "denoise": s["denoise"]}
@@ -190,6 +198,7 @@ def render_picture(scene, short: str, s: dict, *, out: Path, work: Path, log=pri
     if not img.completed:
         raise KeyboardInterrupt
     img.save(png, tonemap=scene.outputs.get("tonemap"), exposure=scene.outputs.get("exposure"))
+    make_companion(short, scene, png, exr)  # the paper's inset or side-by-side, where it has one
     meta = png_metadata(png)
     log(f"{short}: {img.shape[1]}x{img.shape[0]}, {img.metadata['spp']} spp, {img.metadata['seconds']:.0f} s "
         f"(this run {time.perf_counter() - t0:.0f} s)" + (", denoised" if img.denoised is not None else ""))
@@ -202,9 +211,14 @@ def _row(short: str, rel: str, description: str, s: dict, meta: dict | None, pic
     timed quality, size, samples, noise and render time from its metadata."""
     here = readme.parent
     png = pictures / f"{short}.png"
+    companion = companion_path(pictures, short)
     if meta is not None:
         link = os.path.relpath(png, here)
         pic = f'<a href="{link}"><img src="{link}" width="320" alt="{short}"></a>' if timing else f"![{short}]({link})"
+        if companion is not None and companion.is_file():
+            shown = os.path.relpath(companion, here)
+            pic = (f'<a href="{shown}"><img src="{shown}" width="320" alt="{short} with the paper\'s companion"></a> '
+                   f"([the picture alone]({link}))")
     elif (fallback / f"{short}.png").is_file():
         link = os.path.relpath(fallback / f"{short}.png", here)
         pic = f"![{short}]({link}) (small preview: not rendered at this quality yet)"
