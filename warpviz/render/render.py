@@ -356,7 +356,7 @@ def render(
     settings = resume_settings(options, native)
     digest = scene_sha256(native)
     start = PassesDone(film=None, spp=0, passes=0)
-    before = {"seconds": 0.0}
+    seconds_before = 0.0  # a resumed image's render time
     if resume is not None:  # checked before any work: a mismatch names what differs
         prior, name = (resume, "the image") if isinstance(resume, Image) else (read_exr(resume), repr(str(resume)))
         problem = resume_problem(prior, settings=settings, sha256=digest, aovs=options["aovs"] if aovs is not None else None,
@@ -365,10 +365,9 @@ def render(
             raise ValueError(f"resume: {problem}")
         options["aovs"] = [a for a in OPTIONAL_AOVS if a in prior.aovs]
         film = film_from_image(prior, options["aovs"])
-        saved = prior.metadata["resume"]
-        start = PassesDone(film=film, spp=int(prior.metadata["spp"]), passes=int(saved.get("passes", 0)))
-        start = PassesDone(film=film, spp=start.spp, passes=start.passes, noise=float(core.film_noise(film)))
-        before["seconds"] = float(prior.metadata.get("seconds") or 0.0)
+        start = PassesDone(film=film, spp=int(prior.metadata["spp"]), passes=int(prior.metadata["resume"]["passes"]),
+                           noise=float(core.film_noise(film)))  # fmt: skip
+        seconds_before = float(prior.metadata.get("seconds") or 0.0)
     elif denoise:
         options["aovs"] += [a for a in DENOISE_FEATURES if a not in options["aovs"]]
     if denoise:
@@ -388,7 +387,6 @@ def render(
     if done.film is None:  # stopped before the first pass had rendered anything: nothing to return
         raise KeyboardInterrupt
     resolved = core.resolve_film(done.film)
-    film_samples = done.film["samples"]
     if completed and progress is not None:
         total = int(resolved["samples_total"]) - (int(start.film["samples"].sum()) if start.film else 0)
         progress(total, total)
@@ -416,13 +414,13 @@ def render(
         "completed": bool(completed),
         "error_fraction": error_fraction,
         "passes": done.passes,
-        "seconds": before["seconds"] + (time.perf_counter() - t0),
+        "seconds": seconds_before + (time.perf_counter() - t0),
         "noise": None if math.isnan(done.noise) else done.noise,
         "stopped_by": stopped_by,
         "time_limit": time_limit,
         "noise_target": noise_target,
-        "resume": {"resumable": done.spp > 0 and bool(np.all(film_samples > 0)), "passes": done.passes,
-                   "settings": settings, "scene_sha256": digest},
+        # whole passes only: an interrupted first pass (spp 0) has pixels of different sample counts
+        "resume": {"resumable": done.spp > 0, "passes": done.passes, "settings": settings, "scene_sha256": digest},
     }
     if (cw, ch) != (w, h):
         metadata["crop"] = [x0, y0, cw, ch]
