@@ -17,6 +17,8 @@ from warpviz.viewer.annotations import (  # noqa: E402
     default_bounces,
     landmark_labels,
     legend_entries,
+    length_text,
+    length_unit,
     next_coloring,
     view_title,
     visible_ray_ids,
@@ -74,29 +76,47 @@ def press_key(plotter, key):
 def test_title_names_the_metric_and_its_parameters():
     assert view_title("fig10d", wv.Kerr(mass=2.5, spin=0.9)) == "fig10d: Kerr black hole, mass M = 2.5, spin a/M = 0.9"
     assert view_title("room", wv.Schwarzschild(mass=1.0)) == "room: Schwarzschild black hole, mass M = 1"
-    assert "throat b0 = 8 M" in view_title("fig13", wv.EllisWormhole(throat=8.0))
+    assert view_title("fig13", wv.EllisWormhole(throat=8.0)) == "fig13: Ellis wormhole, throat radius b0 = 8 units"
     assert view_title("schwarzschild", wv.Schwarzschild(mass=3.0)) == "Schwarzschild black hole, mass M = 3"
 
 
 def test_landmark_labels_carry_the_radii():
-    assert landmark_labels(wv.Schwarzschild(mass=2.0)) == {"horizon": "horizon r = 4 M",
-                                                           "photon_sphere": "photon sphere r = 6 M"}  # fmt: skip
+    assert landmark_labels(wv.Schwarzschild(mass=1.0)) == {"horizon": "horizon r = 2 M",
+                                                           "photon_sphere": "photon sphere r = 3 M"}  # fmt: skip
     kerr = landmark_labels(wv.Kerr(mass=1.0, spin=0.9))
     # r+ = M + sqrt(M^2 - a^2); the equatorial static limit is 2M; the circular photon orbits
     # r = 2M (1 + cos(2/3 acos(-+a/M))) bound the photon region
     assert kerr["horizon"] == f"horizon r = {1 + np.sqrt(1 - 0.81):.4g} M"
-    assert kerr["ergosphere"] == "ergosphere r = 2 M (equator)"
+    assert kerr["ergosphere"] == "ergosphere r = 2 M on the equator"
     pro, retro = (2 * (1 + np.cos(2 / 3 * np.arccos(s * 0.9)))for s in (-1, 1))
     assert kerr["photon_sphere"] == f"photon region r = {pro:.4g}-{retro:.4g} M"
     assert "ergosphere" not in landmark_labels(wv.Schwarzschild(mass=1.0))
-    assert landmark_labels(wv.EllisWormhole(throat=1.5)) == {"throat": "throat b0 = 1.5 M"}
+    assert landmark_labels(wv.EllisWormhole(throat=1.5)) == {"throat": "throat radius b0 = 1.5 units"}
     assert landmark_labels(wv.Minkowski()) == {} and landmark_labels(None) == {}
+
+
+@pytest.mark.parametrize(("metric", "horizon", "camera"), [
+    (wv.Schwarzschild(mass=1.0), "horizon r = 2 M", "45 M"),
+    (wv.Schwarzschild(mass=2.5), "horizon r = 2 M (5 units)", "18 M (45 units)"),
+    (wv.Kerr(mass=3.482, spin=0.9), "horizon r = 1.436 M (5 units)", "12.92 M (45 units)"),
+])  # fmt: skip
+def test_lengths_are_shown_in_m_with_the_scene_value_beside_them(metric, horizon, camera):
+    """Scene lengths are in M only where M = 1: fig07 (M = 2.5) has its horizon at 5 units = 2 M, fig10d
+    (M = 3.482, a/M = 0.9) at 5 units = 1.436 M with its equatorial ergosphere at 6.964 units = 2 M."""
+    assert landmark_labels(metric)["horizon"] == horizon
+    assert length_text(45.0, metric) == camera
+    if "ergosphere" in metric.landmarks:
+        assert landmark_labels(metric)["ergosphere"] == "ergosphere r = 2 M (6.964 units) on the equator"
+        assert landmark_labels(metric)["photon_sphere"] == "photon region r = 1.558-3.91 M (5.424-13.62 units)"
+    assert length_unit(metric) == ("M" if metric.params["mass"] == 1.0 else f"units, M = {metric.params['mass']:g}")
+    assert length_text(15.13, wv.EllisWormhole(throat=8.0)) == "1.891 b0 (15.13 units)"
+    assert length_text(45.0, wv.Minkowski()) == "45 units" and length_unit(wv.Minkowski()) == "units"
 
 
 def test_legend_lists_what_is_drawn_once_in_order():
     kerr = wv.Kerr(mass=1.0, spin=0.9)
     entries = legend_entries(["horizon", "ergosphere", "camera", "rays", "camera", "flat_rays"], kerr)
-    assert [label for label, _ in entries] == ["horizon r = 1.436 M", "ergosphere r = 2 M (equator)", "camera",
+    assert [label for label, _ in entries] == ["horizon r = 1.436 M", "ergosphere r = 2 M on the equator", "camera",
                                                "recorded light paths", "flat-space ray (no gravity)"]  # fmt: skip
     assert [color for _, color in entries] == [LEGEND_STYLE[k][1] for k in ("horizon", "ergosphere", "camera", "rays",
                                                                            "flat_rays")]  # fmt: skip
@@ -200,7 +220,7 @@ def test_kerr_view_labels_its_ergosphere_and_titles_its_spin():
     try:
         tv = plotter.teaching_view
         labels = [label for label, _ in tv.legend]
-        assert labels[:3] == ["horizon r = 1.436 M", "ergosphere r = 2 M (equator)", "photon region r = 1.558-3.91 M"]
+        assert labels[:3] == ["horizon r = 1.436 M", "ergosphere r = 2 M on the equator", "photon region r = 1.558-3.91 M"]
         title = plotter.renderers[1].actors["scene_title"].GetText(2)  # upper left
         assert "Kerr black hole, mass M = 1, spin a/M = 0.9" in title
         texts = [text for text, _ in tv.labels_3d]
@@ -256,7 +276,7 @@ def test_wormhole_view_draws_the_objects_on_the_other_side():
         expected = wv.ellis_embedding_points(wv.EllisWormhole(throat=1.0), [[0.0, 10.0, 0.0]], [-1])[0, 2]
         assert abs(z.min() - expected) < 1.0
         labels = [label for label, _ in tv.legend]
-        assert labels[:3] == ["our sheet", "other sheet", "throat b0 = 1 M"]
+        assert labels[:3] == ["our sheet", "other sheet", "throat radius b0 = 1 units"]
         assert "objects on the other side" in labels and "scene objects" in labels
     finally:
         plotter.close()

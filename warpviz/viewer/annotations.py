@@ -12,6 +12,10 @@ Examples
 'fig10d: Kerr black hole, mass M = 1, spin a/M = 0.9'
 >>> landmark_labels(wv.Schwarzschild(mass=1.0))
 {'horizon': 'horizon r = 2 M', 'photon_sphere': 'photon sphere r = 3 M'}
+>>> landmark_labels(wv.Schwarzschild(mass=2.5))["horizon"]  # scene lengths are not in M unless M = 1
+'horizon r = 2 M (5 units)'
+>>> length_text(15.13, wv.EllisWormhole(throat=8.0))
+'1.891 b0 (15.13 units)'
 >>> [label for label, _ in legend_entries(["horizon", "camera", "rays"], wv.Schwarzschild(mass=1.0))]
 ['horizon r = 2 M', 'camera', 'recorded light paths']
 """
@@ -35,6 +39,8 @@ __all__ = [
     "default_bounces",
     "landmark_labels",
     "legend_entries",
+    "length_scale",
+    "length_text",
     "length_unit",
     "next_coloring",
     "view_title",
@@ -80,15 +86,52 @@ def _num(value: float) -> str:
     return f"{value:.4g}"
 
 
+def length_scale(metric: Metric | None) -> tuple[str, float]:
+    """The natural unit of a spacetime's lengths and its size in scene units: ``("M", M)`` for a
+    spacetime with a mass, ``("b0", b0)`` for a wormhole (its throat radius), ``("", 1)`` for flat space.
+
+    Scene lengths (positions, radii) are in the scene's own units; they are lengths in M only where M = 1.
+    """
+    if metric is None:
+        return "", 1.0
+    marks = metric.landmarks
+    if "throat" in marks:
+        return "b0", float(marks["throat"])
+    if "mass" in marks and marks["mass"] > 0:
+        return "M", float(marks["mass"])
+    return "", 1.0
+
+
+def length_text(value: float, metric: Metric | None) -> str:
+    """How every label shows a length (the one place that decides it).
+
+    Parameters
+    ----------
+    value : float
+        A length in scene units (a radius, a distance).
+    metric : Metric or None
+
+    Returns
+    -------
+    str
+        In the spacetime's natural unit (:func:`length_scale`), with the scene value beside it where the
+        unit is not 1: ``"2 M"`` (M = 1), ``"2 M (5 units)"`` (M = 2.5), ``"1.891 b0 (15.13 units)"``
+        (an Ellis wormhole of throat radius 8), ``"45 units"`` (flat space).
+    """
+    unit, size = length_scale(metric)
+    if not unit:
+        return f"{_num(value)} units"
+    text = f"{_num(value / size)} {unit}"
+    return text if size == 1.0 else f"{text} ({_num(value)} units)"
+
+
 def length_unit(metric: Metric | None) -> str:
-    """The unit lengths are shown in: ``"M"`` for a spacetime with a mass, else ``""`` (e.g. an Ellis
-    wormhole, whose lengths are in the units of its throat parameter)."""
-    return "M" if metric is not None and "mass" in metric.landmarks else ""
-
-
-def _length(value: float, metric: Metric | None) -> str:
-    unit = length_unit(metric)
-    return f"{_num(value)} {unit}" if unit else _num(value)
+    """The unit of the axes and of a radius colour bar, which show scene coordinates: ``"M"`` where they
+    are lengths in M (a mass of 1), else ``"units, M = 2.5"``, ``"units, b0 = 8"`` or ``"units"``."""
+    unit, size = length_scale(metric)
+    if unit == "M" and size == 1.0:
+        return "M"
+    return f"units, {unit} = {_num(size)}" if unit else "units"
 
 
 def view_title(title: str, metric: Metric | None) -> str:
@@ -110,7 +153,7 @@ def view_title(title: str, metric: Metric | None) -> str:
     marks = metric.landmarks
     name = type(metric).__name__
     if "throat" in marks:
-        what = f"Ellis wormhole, throat b0 = {_length(marks['throat'], metric)}"
+        what = f"Ellis wormhole, throat radius b0 = {_num(marks['throat'])} units"
     elif metric.is_flat:
         what = f"{name} (flat space)"
     else:
@@ -139,23 +182,26 @@ def landmark_labels(metric: Metric | None) -> dict[str, str]:
     -------
     dict[str, str]
         e.g. ``{"horizon": "horizon r = 2 M", "photon_sphere": "photon sphere r = 3 M"}``; radii are the
-        metric's radial coordinate (areal, or Boyer–Lindquist), the ergosphere's on the equator.
+        metric's radial coordinate (areal, or Boyer–Lindquist), the ergosphere's on the equator, shown by
+        :func:`length_text` (``"horizon r = 2 M (5 units)"`` where M = 2.5).
     """
     if metric is None:
         return {}
     m = metric.landmarks
     out: dict[str, str] = {}
     if "horizon" in m:
-        out["horizon"] = f"horizon r = {_length(m['horizon'], metric)}"
+        out["horizon"] = f"horizon r = {length_text(m['horizon'], metric)}"
     if "ergosphere" in m:
-        out["ergosphere"] = f"ergosphere r = {_length(m['ergosphere'], metric)} (equator)"
+        out["ergosphere"] = f"ergosphere r = {length_text(m['ergosphere'], metric)} on the equator"
     if "photon_prograde" in m and "photon_retrograde" in m:
         lo, hi = sorted((m["photon_prograde"], m["photon_retrograde"]))
-        out["photon_sphere"] = f"photon region r = {_num(lo)}-{_length(hi, metric)}"
+        unit, size = length_scale(metric)
+        both = f"{_num(lo / size)}-{_num(hi / size)} {unit}"
+        out["photon_sphere"] = f"photon region r = {both}" + ("" if size == 1.0 else f" ({_num(lo)}-{_num(hi)} units)")
     elif "photon_sphere" in m:
-        out["photon_sphere"] = f"photon sphere r = {_length(m['photon_sphere'], metric)}"
+        out["photon_sphere"] = f"photon sphere r = {length_text(m['photon_sphere'], metric)}"
     if "throat" in m:
-        out["throat"] = f"throat b0 = {_length(m['throat'], metric)}"
+        out["throat"] = f"throat radius b0 = {_num(m['throat'])} units"
     return out
 
 
@@ -219,7 +265,7 @@ def coloring_title(color_by: str, metric: Metric | None, *, fallback: dict[str, 
         return (f"log10 largest relative drift of {quantities} along the ray "
                 f"(good: below {round(math.log10(GOOD_DRIFT))}, i.e. {GOOD_DRIFT:.0e})")  # fmt: skip
     if array == "r":
-        return f"radius r ({length_unit(metric) or 'length units'})"
+        return f"radius r ({length_unit(metric)})"
     if array == "redshift":
         return "redshift: frequency / frequency at the start (1 = unshifted)"
     if array == "affine_param":

@@ -186,7 +186,7 @@ def flat_impact_parameters(camera: Mapping[str, Any], width: int, height: int) -
     Returns
     -------
     numpy.ndarray
-        (height, width) float64 distances of closest approach ``|position x direction|`` (in M); ``inf``
+        (height, width) float64 distances of closest approach ``|position x direction|`` (scene units); ``inf``
         for rays that point away from the centre.
     """
     yy, xx = np.mgrid[0:height, 0:width]

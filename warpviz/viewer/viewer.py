@@ -7,8 +7,9 @@ polylines coloured by the largest relative drift of their conserved quantities (
 |X − X₀| / |X₀| where X₀ is not negligible against its terms, term-scaled otherwise and for H; see
 :class:`warpviz.RayBundle`), or by ``r``, redshift or affine parameter, with a colour bar naming the
 quantity; the scene's shapes; the spacetime's landmarks (horizon, ergosphere, photon sphere or Kerr photon
-region, Ellis throat) drawn translucent and labelled with their radii; the camera; axes in M; a title
-with the metric and its parameters and a legend of what is drawn. An Ellis wormhole is drawn as its
+region, Ellis throat) drawn translucent and labelled with their radii (in M, or throat radii, with the
+scene value beside them: :func:`~warpviz.viewer.annotations.length_text`); the camera; axes in scene
+units (in M where M = 1); a title with the metric and its parameters and a legend of what is drawn. An Ellis wormhole is drawn as its
 embedding diagram with the rays and the objects of both sheets on it. By default only the camera
 segment of each chosen pixel's paths is drawn; bounces come on demand.
 

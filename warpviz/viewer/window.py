@@ -21,6 +21,7 @@ from warpviz.viewer.annotations import (
     coloring_title,
     landmark_labels,
     legend_entries,
+    length_text,
     length_unit,
     next_coloring,
     view_title,
@@ -313,9 +314,8 @@ class TeachingView:
                 p.add_mesh(frustum, color=_FRUSTUM_COLOR, line_width=2, pickable=False, name="camera")
                 focus.append(frustum)
                 label_points.append(position)
-            unit = length_unit(self.metric)
             distance = float(np.linalg.norm(position))
-            label_texts.append(f"camera, {distance:.3g} {unit} from the centre".replace("  ", " "))
+            label_texts.append(f"camera, {length_text(distance, self.metric)} from the centre")
             drawn.append("camera")
 
         shown = None
@@ -345,7 +345,7 @@ class TeachingView:
             self._focus = _around(self._focus, starts) if self._focus is not None else _focus_bounds([shown])
         if self._focus is not None:
             unit = length_unit(self.metric)
-            titles = [f"{axis} ({unit})" if unit else axis for axis in "xyz"]
+            titles = [f"{axis} ({unit})" for axis in "xyz"]
             p.show_bounds(bounds=list(self._focus), xtitle=titles[0], ytitle=titles[1], ztitle=titles[2],
                           location="outer", ticks="outside", font_size=8, fmt="%.0f", grid=False,
                           use_3d_text=False)  # fmt: skip

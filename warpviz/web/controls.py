@@ -47,7 +47,7 @@ def _registry_entry(name: str) -> dict:
 
 
 def camera_distance(camera: Mapping[str, Any]) -> float:
-    """Distance from the camera to the point it looks at (M)."""
+    """Distance from the camera to the point it looks at (scene units)."""
     return float(np.linalg.norm(np.subtract(camera["position"], camera["look_at"], dtype=np.float64)))
 
 
@@ -106,7 +106,7 @@ def slider_specs(native: Mapping[str, Any]) -> list[dict]:
     if capture:
         lo = max(lo, 1.5 * float(capture))
     hi = max(2.0 * d, lo * 1.01)
-    sliders.append({"name": "distance", "label": "camera distance (M)", "value": d, "min": lo, "max": hi,
+    sliders.append({"name": "distance", "label": "camera distance (scene units)", "value": d, "min": lo, "max": hi,
                     "step": (hi - lo) / SLIDER_STEPS})  # fmt: skip
     return sliders
 
