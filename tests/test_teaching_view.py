@@ -117,7 +117,7 @@ def test_legend_lists_what_is_drawn_once_in_order():
     kerr = wv.Kerr(mass=1.0, spin=0.9)
     entries = legend_entries(["horizon", "ergosphere", "camera", "rays", "camera", "flat_rays"], kerr)
     assert [label for label, _ in entries] == ["horizon r = 1.436 M", "ergosphere r = 2 M on the equator", "camera",
-                                               "recorded light paths", "flat-space ray (no gravity)"]  # fmt: skip
+                                               "recorded light paths (colours: the bar below)", "flat-space ray (no gravity)"]  # fmt: skip
     assert [color for _, color in entries] == [LEGEND_STYLE[k][1] for k in ("horizon", "ergosphere", "camera", "rays",
                                                                            "flat_rays")]  # fmt: skip
     assert legend_entries([], kerr) == []
@@ -196,15 +196,28 @@ def test_legend_is_what_the_panel_draws(scene_view):
 
     def check():
         items = tv.drawn_items()
-        assert tv.legend == legend_entries(items, tv.metric)
+        assert tv.legend == legend_entries(items, tv.metric, tv.legend_colors())
         assert all(ACTOR_OF[key] in scene.actors for key in items)
+        # each swatch is the colour its item is drawn in: the paths' is the colour map at their median value
+        if "rays" in items:
+            actor = scene.actors["rays"]
+            mapper = actor.GetMapper()
+            drawn = tv.shown_rays.extract_cells(tv._visible)
+            values = np.asarray(drawn.point_data[coloring_array(tv.color_by)], dtype=np.float64)
+            lut = mapper.GetLookupTable()
+            rgb = [0.0, 0.0, 0.0]
+            lut.GetColor(float(np.median(values[np.isfinite(values)])), rgb)
+            swatch = dict(tv.legend)[next(label for label, _ in tv.legend if label.startswith("recorded"))]
+            from matplotlib.colors import to_rgb
+
+            assert np.allclose(to_rgb(swatch), rgb, atol=0.02), (swatch, rgb)
         for key, name in ACTOR_OF.items():  # and nothing drawn is missing from it
             if name in scene.actors and key not in ("other_sheet", "other_surfaces", "our_sheet", "throat"):
                 assert key in items, key
         return [label for label, _ in tv.legend]
 
     labels = check()
-    assert labels == ["horizon r = 2 M", "photon sphere r = 3 M", "scene objects", "camera", "recorded light paths"]
+    assert labels == ["horizon r = 2 M", "photon sphere r = 3 M", "scene objects", "camera", "recorded light paths (colours: the bar below)"]
     tv.select_pixel(*next(iter(tv.pixel_labels)))
     tv.toggle_flat(True)
     assert check()[-2:] == ["selected pixel's paths", "flat-space ray (no gravity)"]

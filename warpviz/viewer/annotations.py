@@ -17,7 +17,7 @@ Examples
 >>> length_text(15.13, wv.EllisWormhole(throat=8.0))
 '1.891 b0 (15.13 units)'
 >>> [label for label, _ in legend_entries(["horizon", "camera", "rays"], wv.Schwarzschild(mass=1.0))]
-['horizon r = 2 M', 'camera', 'recorded light paths']
+['horizon r = 2 M', 'camera', 'recorded light paths (colours: the bar below)']
 """
 
 from __future__ import annotations
@@ -71,7 +71,7 @@ LEGEND_STYLE = {
     "surfaces": ("scene objects", "tan"),
     "other_surfaces": ("objects on the other side", "sandybrown"),
     "camera": ("camera", "darkorange"),
-    "rays": ("recorded light paths", "purple"),
+    "rays": ("recorded light paths (colours: the bar below)", "purple"),  # the window gives the drawn colour
     "highlight": ("selected pixel's paths", "magenta"),
     "picked": ("clicked ray", "yellow"),
     "flat_rays": ("flat-space ray (no gravity)", "lime"),
@@ -205,7 +205,8 @@ def landmark_labels(metric: Metric | None) -> dict[str, str]:
     return out
 
 
-def legend_entries(drawn: Sequence[str], metric: Metric | None) -> list[tuple[str, str]]:
+def legend_entries(drawn: Sequence[str], metric: Metric | None,
+                   colors: dict[str, str] | None = None) -> list[tuple[str, str]]:
     """The legend of the 3-D panel: one (label, colour) per drawn item, in drawing order.
 
     Parameters
@@ -214,6 +215,9 @@ def legend_entries(drawn: Sequence[str], metric: Metric | None) -> list[tuple[st
         Keys of :data:`LEGEND_STYLE` of the items drawn now (repeats listed once).
     metric : Metric or None
         For the landmarks' labels (their radii).
+    colors : dict[str, str], optional
+        Colours of items drawn in other colours than :data:`LEGEND_STYLE`'s: the recorded paths, drawn
+        through a colour map, are shown in the colour of their median value.
 
     Returns
     -------
@@ -233,7 +237,7 @@ def legend_entries(drawn: Sequence[str], metric: Metric | None) -> list[tuple[st
             raise KeyError(f"no legend entry for {key!r}; known: {', '.join(LEGEND_STYLE)}")
         seen.add(key)
         label, color = LEGEND_STYLE[key]
-        out.append((labels.get(key, label), color))
+        out.append((labels.get(key, label), (colors or {}).get(key, color)))
     return out
 
 

@@ -64,6 +64,8 @@ _FEATURE_OPACITY = {"horizon": 0.55, "ergosphere": 0.15, "photon_sphere": 0.15, 
 _LABEL_DIRECTION = (0.0, -0.3, 1.0)
 
 _SELECTED_COLOR = LEGEND_STYLE["highlight"][1]
+#: The colour map of the recorded paths (the colour bar shows its values).
+_RAYS_CMAP = "plasma"
 _PICKED_COLOR = LEGEND_STYLE["picked"][1]
 _FLAT_COLOR = LEGEND_STYLE["flat_rays"][1]
 _FRUSTUM_COLOR = LEGEND_STYLE["camera"][1]
@@ -154,6 +156,7 @@ class TeachingView:
         self._image_renderer = None
         self._image_actor = None
         self._rays_actor = None
+        self._rays_color = LEGEND_STYLE["rays"][1]
         self._bar_title: str | None = None
         self._press: tuple[int, int] | None = None
         self._named_actors: dict[str, Any] = {}
@@ -377,8 +380,14 @@ class TeachingView:
         if not mesh.n_cells:
             self._bar_title = None
             return
+        # the legend's swatch: the colour map at the drawn values' median (they are drawn through it)
+        from matplotlib import colormaps
+        from matplotlib.colors import to_hex
+
+        middle = float(np.median(finite)) if finite.size else lo
+        self._rays_color = to_hex(colormaps[_RAYS_CMAP](min(1.0, max(0.0, (middle - lo) / (hi - lo)))))
         self._rays_actor = p.add_mesh(
-            mesh, scalars=array, cmap="plasma", clim=(lo, hi), line_width=2, lighting=False, name="rays",
+            mesh, scalars=array, cmap=_RAYS_CMAP, clim=(lo, hi), line_width=2, lighting=False, name="rays",
             reset_camera=False,
             scalar_bar_args={"title": title, "vertical": False,
                              "position_x": 0.15, "position_y": 0.03, "width": 0.7, "height": 0.06,
@@ -693,8 +702,12 @@ class TeachingView:
             items.remove("rays")
         return items + [key for key in ("highlight", "picked", "flat_rays") if key in self._named_actors]
 
+    def legend_colors(self) -> dict[str, str]:
+        """Colours of the legend's items drawn through a colour map (the recorded paths: their median)."""
+        return {"rays": self._rays_color} if self._rays_actor is not None else {}
+
     def _update_legend(self) -> None:
-        entries = legend_entries(self.drawn_items(), self.metric)
+        entries = legend_entries(self.drawn_items(), self.metric, self.legend_colors())
         if entries == self.legend:
             return
         self.legend = entries
