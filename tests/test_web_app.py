@@ -165,6 +165,9 @@ def test_browser_shows_the_view_selects_pixels_and_rerenders_on_the_spin_slider(
             "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-sandbox"])  # fmt: skip
         try:
             page = browser.new_page(viewport={"width": 1300, "height": 800})
+            console = []
+            page.on("console", lambda msg: console.append((msg.type, msg.text)))
+            page.on("response", lambda r: console.append(("response", r.status, r.request.method, r.url)) if r.status >= 400 else None)
             page.goto(served)
             page.wait_for_function("document.querySelector('#warpviz-image')"
                                    " && document.querySelector('#warpviz-image').src.startsWith('data:image/png')",
@@ -203,6 +206,11 @@ def test_browser_shows_the_view_selects_pixels_and_rerenders_on_the_spin_slider(
             page.wait_for_function("document.querySelector('#warpviz-status').innerText.includes('nothing selected')",
                                    timeout=20_000)  # fmt: skip
             assert page.locator("#warpviz-problem").inner_text() == ""
+            assert page.title().startswith("warpviz: "), page.title()  # not trame's default "Trame"
+            # every slider shows its value (the thumb label is always on)
+            assert page.locator("#warpviz-slider-spin .v-slider-thumb__label").count() == 1
+            # and nothing went wrong on the page (the session probe once failed with HTTP 405)
+            assert not [c for c in console if c[0] in ("error", "response")], console
         finally:
             browser.close()
 

@@ -270,6 +270,8 @@ class TeachingApp:
 
         server, ctrl = self.server, self.server.controller
         ctrl.click_image = self.click_image
+        ctrl.on_server_bind.add(_answer_session_probe)
+        server.state.trame__title = f"warpviz: {self.content.title}"  # the browser tab's title
         with SinglePageLayout(server, full_height=True) as layout:
             layout.title.set_text(f"warpviz: {self.content.title}")
             with layout.toolbar:
@@ -294,7 +296,7 @@ class TeachingApp:
                                 with html.Div(id=f"warpviz-slider-{s['name']}", style=f"max-width: {IMAGE_WIDTH}px"):
                                     vuetify3.VSlider(
                                         v_model=(f"slider_{s['name']}",), label=s["label"], min=s["min"],
-                                        max=s["max"], step=s["step"], thumb_label=True, hide_details=True,
+                                        max=s["max"], step=s["step"], thumb_label="always", hide_details=True,
                                     )  # fmt: skip
                         with vuetify3.VCol():
                             with html.Div(id="warpviz-3d",
@@ -341,6 +343,19 @@ class TeachingApp:
                               disable_logging=True, timeout=0)  # fmt: skip
         finally:
             sys.argv = argv
+
+
+def _answer_session_probe(wslink_server) -> None:
+    """Answer the trame page's session-manager probe (``POST /paraview/``) with this server's own
+    WebSocket, so the page connects at once instead of logging a 405 error in the browser console and
+    falling back to the same address."""
+    from aiohttp import web
+
+    async def session(request):
+        scheme = "wss" if request.secure else "ws"
+        return web.json_response({"sessionURL": f"{scheme}://{request.host}/ws"})
+
+    wslink_server.app.router.add_post("/paraview/", session)
 
 
 def serve(scene, *, port: int = 0, host: str = "127.0.0.1", open_browser: bool = False, preview_width: int = 96,
