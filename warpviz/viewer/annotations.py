@@ -77,6 +77,10 @@ LEGEND_STYLE = {
     "flat_rays": ("flat-space ray (no gravity)", "lime"),
 }
 
+#: Each conserved quantity in words, for the drift colouring's title.
+INVARIANT_WORDS = {"H": "the null condition H", "E": "energy E", "Lz": "angular momentum Lz",
+                   "L2": "total angular momentum L2", "Q": "Carter's constant Q"}  # fmt: skip
+
 _FEATURE_NAMES = {"horizon": "horizon", "ergosphere": "ergosphere", "photon_sphere": "photon sphere",
                   "throat": "throat"}  # fmt: skip
 
@@ -265,9 +269,11 @@ def coloring_title(color_by: str, metric: Metric | None, *, fallback: dict[str, 
     array = coloring_array(color_by)
     if array == "log10_error":
         names = metric.invariant_names if metric is not None else ["H", "E", "Lz", "Q"]
-        quantities = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else "".join(names)
-        return (f"log10 largest relative drift of {quantities} along the ray "
-                f"(good: below {round(math.log10(GOOD_DRIFT))}, i.e. {GOOD_DRIFT:.0e})")  # fmt: skip
+        words = [INVARIANT_WORDS.get(n, n) for n in names if n != "H"] or ["H"]
+        quantities = ", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else words[0]
+        good = round(math.log10(GOOD_DRIFT))
+        return (f"how well each ray keeps {quantities}: log10 of its largest relative error "
+                f"(-10: ten correct digits; good below {good})")  # fmt: skip
     if array == "r":
         return f"radius r ({length_unit(metric)})"
     if array == "redshift":
