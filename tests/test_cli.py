@@ -278,6 +278,12 @@ def test_view_hands_scenes_and_files_to_the_viewer(monkeypatch, tmp_path):
     picture = tmp_path / "image.exr"
     picture.write_text("")
     assert invoke("view", picture).exit_code == 2
+    # the image panel's samples, time budget and width
+    assert invoke("view", "fig07", "--time", "30s", "--width", "160").exit_code == 0
+    assert seen[-1][1] == {"time_limit": 30.0, "spp": None, "preview_width": 160}
+    assert invoke("view", "fig07", "--spp", "16").exit_code == 0 and seen[-1][1] == {"spp": 16}
+    result = invoke("view", "fig07", "--time", "later")
+    assert result.exit_code == 2 and "--time must be a time" in result.stderr
 
 
 @pytest.mark.slow

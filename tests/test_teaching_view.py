@@ -129,9 +129,9 @@ def test_colorings_their_arrays_titles_and_cycle():
     assert [coloring_array(n) for n in COLORINGS] == ["log10_error", "r", "redshift", "affine_param"]
     assert coloring_array("step_size") == "step_size"
     drift = coloring_title("drift", wv.Kerr(mass=1.0, spin=0.9))
-    assert drift == ("how well each ray keeps energy E, angular momentum Lz and Carter's constant Q: log10 of its "
-                     "largest relative error (-10: ten correct digits; good below -5)")  # fmt: skip
-    assert "energy E, angular momentum Lz and total angular momentum L2" in coloring_title("drift", wv.Schwarzschild())
+    assert drift == ("how well each ray keeps energy E, angular momentum Lz and Carter's constant Q\n"
+                     "log10 of its largest relative error: -10 = ten correct digits, good below -5")  # fmt: skip
+    assert "energy E, angular momentum Lz and L^2\n" in coloring_title("drift", wv.Schwarzschild())
     assert coloring_title("r", wv.Schwarzschild(mass=1.0)) == "radius r (M)"
     assert coloring_title("r", wv.Schwarzschild(mass=2.5)) == "radius r (units, M = 2.5)"
     assert coloring_title("step_size", None, fallback={"step_size": "step size"}) == "step size"

@@ -599,6 +599,14 @@ def view(
     color_by: Optional[str] = typer.Option(
         None, "--color-by", help="Colour the paths by drift (largest relative drift of the conserved quantities, "
         "the default), r, redshift or affine (the affine parameter); key c cycles them."),
+    spp: Optional[int] = typer.Option(
+        None, "--spp", min=1, max=MAX_SPP, help="Samples per pixel of a scene's image panel (default 4; with --time "
+        "alone: as many as fit)."),
+    time_budget: Optional[str] = typer.Option(
+        None, "--time", help="Time budget of a scene's image panel: seconds, or 30s, 2m (with --spp: whichever "
+        "comes first). A window then refines it further while it is open."),
+    preview_width: Optional[int] = typer.Option(
+        None, "--width", min=8, max=4096, help="Width in pixels of a scene's image panel (default 96)."),
 ) -> None:
     """Open the PyVista teaching view: the image beside the 3-D paths of its light rays."""
     with _guard():
@@ -615,6 +623,14 @@ def view(
         else:
             _fail(f"{target}: no such file", EXIT_BAD_INPUT)
         options: dict[str, Any] = {}
+        seconds_budget = _checked("--time", duration_seconds, time_budget)
+        if seconds_budget is not None:
+            options["time_limit"] = seconds_budget
+            options["spp"] = spp  # None: as many as the budget allows
+        elif spp is not None:
+            options["spp"] = spp
+        if preview_width is not None:
+            options["preview_width"] = preview_width
         if pixels:
             options["pixels"] = _parse_pixels(pixels)
         if bounces is not None:

@@ -79,7 +79,7 @@ LEGEND_STYLE = {
 
 #: Each conserved quantity in words, for the drift colouring's title.
 INVARIANT_WORDS = {"H": "the null condition H", "E": "energy E", "Lz": "angular momentum Lz",
-                   "L2": "total angular momentum L2", "Q": "Carter's constant Q"}  # fmt: skip
+                   "L2": "L^2", "Q": "Carter's constant Q"}  # fmt: skip
 
 _FEATURE_NAMES = {"horizon": "horizon", "ergosphere": "ergosphere", "photon_sphere": "photon sphere",
                   "throat": "throat"}  # fmt: skip
@@ -272,8 +272,8 @@ def coloring_title(color_by: str, metric: Metric | None, *, fallback: dict[str, 
         words = [INVARIANT_WORDS.get(n, n) for n in names if n != "H"] or ["H"]
         quantities = ", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else words[0]
         good = round(math.log10(GOOD_DRIFT))
-        return (f"how well each ray keeps {quantities}: log10 of its largest relative error "
-                f"(-10: ten correct digits; good below {good})")  # fmt: skip
+        return (f"how well each ray keeps {quantities}\n"
+                f"log10 of its largest relative error: -10 = ten correct digits, good below {good}")  # fmt: skip
     if array == "r":
         return f"radius r ({length_unit(metric)})"
     if array == "redshift":

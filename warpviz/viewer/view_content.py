@@ -197,7 +197,7 @@ def flat_impact_parameters(camera: Mapping[str, Any], width: int, height: int) -
     return np.where(d @ p < 0.0, b, np.inf).reshape(height, width)
 
 
-def _content_from_scene(scene, *, pixels, preview_width: int, spp: int) -> ViewContent:
+def _content_from_scene(scene, *, pixels, preview_width: int, spp: int | None, time_limit=None) -> ViewContent:
     """Render a scene small, recording the paths of ``pixels`` (given at the preview size) or of the few
     pixels :func:`~warpviz.viewer.picking.teaching_pixels` chooses from a first render."""
     from warpviz.render import render
@@ -213,7 +213,7 @@ def _content_from_scene(scene, *, pixels, preview_width: int, spp: int) -> ViewC
     width, height = _preview_size(camera, preview_width)
     labels: dict = {}
     if pixels is None:
-        first = render(scene, width=width, height=height, spp=spp, aovs=["status"])
+        first = render(scene, width=width, height=height, spp=min(spp or 4, 4), aovs=["status"])
         metric = _metric_of_native(first.native_scene)
         throat = metric.landmarks.get("throat") if metric is not None else None
         chosen = teaching_pixels(first.aovs["status"], first.rgb, flat_impact_parameters(camera, width, height),
@@ -222,11 +222,11 @@ def _content_from_scene(scene, *, pixels, preview_width: int, spp: int) -> ViewC
         record = np.array(list(labels) or [(width // 2, height // 2)], dtype=np.int64)
     else:
         record = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
-    img = render(scene, width=width, height=height, spp=spp, record_pixels=record)
+    img = render(scene, width=width, height=height, spp=spp, time_limit=time_limit, record_pixels=record)
     content = _content_from_image(img)
     content.pixel_labels = labels
     content.source = scene
-    content.preview = {"width": width, "height": height, "spp": spp, "seed": img.metadata.get("seed"),
+    content.preview = {"width": width, "height": height, "spp": img.metadata["spp"], "seed": img.metadata.get("seed"),
                        "rgb": np.asarray(img.rgb)}
     return content
 
@@ -239,7 +239,7 @@ def _metric_of_native(native: Mapping[str, Any] | None) -> Metric | None:
     return _as_metric(native["metric"])
 
 
-def view_content(obj, *, pixels=None, preview_width: int = 96, spp: int = 4) -> ViewContent:
+def view_content(obj, *, pixels=None, preview_width: int = 96, spp: int | None = 4, time_limit=None) -> ViewContent:
     """Gather what :func:`warpviz.view` shows of ``obj``.
 
     Parameters
@@ -252,7 +252,10 @@ def view_content(obj, *, pixels=None, preview_width: int = 96, spp: int = 4) -> 
     pixels : array_like of int, optional, keyword-only
         (K, 2) pixels to record when ``obj`` is a scene (ignored otherwise).
     preview_width, spp : int, keyword-only
-        Size and samples per pixel of a scene's preview render.
+        Size and samples per pixel of a scene's preview render (``spp`` None with a ``time_limit``: as many
+        as fit).
+    time_limit : float or str, optional, keyword-only
+        A time budget for the preview render (``render(time_limit=)``; with ``spp``, whichever comes first).
 
     Returns
     -------
@@ -276,7 +279,7 @@ def view_content(obj, *, pixels=None, preview_width: int = 96, spp: int = 4) -> 
     if isinstance(obj, (str, os.PathLike)) and Path(obj).suffix.lower() in (".vtp", ".vtm"):
         return _content_from_file(Path(obj))
     if isinstance(obj, (str, os.PathLike, Mapping)) or type(obj).__name__ == "Scene":
-        return _content_from_scene(obj, pixels=pixels, preview_width=preview_width, spp=spp)
+        return _content_from_scene(obj, pixels=pixels, preview_width=preview_width, spp=spp, time_limit=time_limit)
     raise TypeError(
         f"cannot view a {type(obj).__name__}: pass an Image from warpviz.render, a RayBundle, a .vtp/.vtm "
         "file, a scene file, a warpviz.scene.Scene or a native scene dict"

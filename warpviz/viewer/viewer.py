@@ -75,7 +75,8 @@ def view(
     theme=None,
     return_plotter: bool = False,
     preview_width: int = 96,
-    spp: int = 4,
+    spp: int | None = 4,
+    time_limit: float | str | None = None,
     jupyter_backend: str | None = None,
     refine: bool = True,
 ):
@@ -120,8 +121,11 @@ def view(
         the :class:`TeachingView`. Close it with ``plotter.close()``.
     preview_width : int, keyword-only
         Width in pixels of the preview render of a scene.
-    spp : int, keyword-only
-        Samples per pixel of the preview render.
+    spp : int or None, keyword-only
+        Samples per pixel of the preview render (None with ``time_limit``: as many as fit).
+    time_limit : float or str, optional, keyword-only
+        A time budget for the preview render: seconds or ``"30s"``, ``"2m"`` (with ``spp``, whichever
+        comes first), for a clean image panel at once.
     refine : bool, keyword-only
         In a window, refine a scene's preview while the window is open: passes with more samples render
         on a background thread and replace the image (:meth:`TeachingView.start_refining`, up to
@@ -166,7 +170,7 @@ def view(
         raise ValueError(f"bounces must be an integer >= 0, None or 'auto', got {bounces!r}")
     if bounces is not None and not isinstance(bounces, str) and int(bounces) < 0:
         raise ValueError(f"bounces must be >= 0 (0: camera segments only), got {bounces}")
-    content = view_content(obj, pixels=pixels, preview_width=preview_width, spp=spp)
+    content = view_content(obj, pixels=pixels, preview_width=preview_width, spp=spp, time_limit=time_limit)
     if bounces == "auto":
         bounces = default_bounces(bool(content.pixel_labels))
     if off_screen is None:
