@@ -21,6 +21,7 @@ from warpviz.scene.camera import camera_basis, flat_camera_ray, pinhole_directio
 from warpviz.viewer import default_off_screen  # noqa: E402
 from warpviz.viewer.meshes import _image_grid  # noqa: E402
 from warpviz.viewer.picking import (  # noqa: E402
+    PIXEL_WORDS,
     image_cell_to_pixel,
     pixel_for_ray,
     pixel_to_image_cell,
@@ -386,13 +387,13 @@ def test_the_teaching_pixels_of_a_black_hole_room():
     status = img.aovs["status"]
     impact = flat_impact_parameters(img.native_scene["camera"], 48, 36)
     chosen = dict(teaching_pixels(status, img.rgb, impact))
-    x, y = chosen["shadow edge"]
+    x, y = chosen[PIXEL_WORDS["shadow_edge"]]
     assert status[y, x] != 2 and status[y, x - 1] == 2
     lum = img.rgb @ np.array([0.2126, 0.7152, 0.0722])
-    x, y = chosen["lensed light"]
+    x, y = chosen[PIXEL_WORDS["bent"]]
     assert lum[y, x] >= 0.5 * lum[status != 2].max()
-    x, y = chosen["plain"]
-    assert status[y, x] != 2 and impact[y, x] > 1.5 * impact[chosen["shadow edge"][::-1]]
+    x, y = chosen[PIXEL_WORDS["plain"]]
+    assert status[y, x] != 2 and impact[y, x] > 1.5 * impact[chosen[PIXEL_WORDS["shadow_edge"]][::-1]]
 
 
 def test_ellis_rays_are_drawn_on_the_embedding_diagram():

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "PIXEL_WORDS",
     "image_cell_to_pixel",
     "pixel_for_ray",
     "pixel_to_image_cell",
@@ -191,6 +192,16 @@ def sparse_pixel_grid(width: int, height: int, *, nx: int = 8, ny: int = 6) -> n
     return np.column_stack([gx.ravel(), gy.ravel()])
 
 
+#: What each pixel :func:`teaching_pixels` chooses shows, in words a student reads beside the image.
+PIXEL_WORDS = {
+    "shadow_edge": "edge of the shadow",
+    "throat_edge": "edge of the window",
+    "bent": "light bent round the hole",
+    "other_side": "light from the other side",
+    "plain": "light that hardly bends",
+}
+
+
 def teaching_pixels(status: np.ndarray, rgb: np.ndarray, impact: np.ndarray, *,
                     edge_impact: float | None = None) -> list[tuple[str, tuple[int, int]]]:  # fmt: skip
     """A few pixels whose light paths explain a picture: one at the shadow's (or throat's) edge, one
@@ -211,8 +222,9 @@ def teaching_pixels(status: np.ndarray, rgb: np.ndarray, impact: np.ndarray, *,
     Returns
     -------
     list of (str, (int, int))
-        ``("shadow edge" | "throat edge", (x, y))``, ``("lensed light", (x, y))``, ``("plain", (x, y))``,
-        each where the picture has one, without repeats.
+        (label, (x, y)) with the labels of :data:`PIXEL_WORDS`: the shadow's (or the wormhole's window's)
+        edge, the brightest light nearest the centre (bent round the hole, or from the other side of
+        the wormhole), and light that hardly bends; each where the picture has one, without repeats.
 
     Examples
     --------
@@ -222,7 +234,7 @@ def teaching_pixels(status: np.ndarray, rgb: np.ndarray, impact: np.ndarray, *,
     >>> yy, xx = np.mgrid[0:5, 0:7]
     >>> impact = np.hypot(xx - 3.0, yy - 2.0)
     >>> [(label, xy) for label, xy in teaching_pixels(status, rgb, impact)]
-    [('shadow edge', (5, 2)), ('lensed light', (6, 2)), ('plain', (1, 2))]
+    [('edge of the shadow', (5, 2)), ('light bent round the hole', (6, 2)), ('light that hardly bends', (1, 2))]
     """
     status = np.asarray(status)
     rgb = np.asarray(rgb, dtype=np.float64)
@@ -238,21 +250,21 @@ def teaching_pixels(status: np.ndarray, rgb: np.ndarray, impact: np.ndarray, *,
         cols = np.flatnonzero(shadow[row])
         edge = int(cols.max()) + 1
         if edge < w:
-            out.append(("shadow edge", (edge, row)))
+            out.append((PIXEL_WORDS["shadow_edge"], (edge, row)))
     elif edge_impact is not None:
         finite = np.isfinite(impact[row])
         if finite.any():
             x = int(np.argmin(np.where(finite, np.abs(impact[row] - edge_impact), np.inf)))
-            out.append(("throat edge", (x, row)))
+            out.append((PIXEL_WORDS["throat_edge"], (x, row)))
     luminance = rgb @ np.array([0.2126, 0.7152, 0.0722])
     luminance = np.where(shadow | ~np.isfinite(luminance), 0.0, luminance)
     if luminance.max() > 0:
         bright = luminance >= 0.5 * luminance.max()
         y, x = np.unravel_index(np.argmin(np.where(bright, impact, np.inf)), (h, w))
-        out.append(("lensed light", (int(x), int(y))))
+        out.append((PIXEL_WORDS["bent" if edge_impact is None else "other_side"], (int(x), int(y))))
     plain = (int(0.15 * w), row)
     if not shadow[plain[1], plain[0]]:
-        out.append(("plain", plain))
+        out.append((PIXEL_WORDS["plain"], plain))
     seen, unique = set(), []
     for label, xy in out:
         if xy not in seen:

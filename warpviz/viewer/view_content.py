@@ -58,8 +58,8 @@ class ViewContent:
     features : dict[str, pyvista.PolyData]
         Landmarks read from a ``.vtm`` (otherwise built from ``metric`` when drawn).
     pixel_labels : dict[tuple[int, int], str]
-        What the pixels chosen by :func:`~warpviz.viewer.picking.teaching_pixels` show ("shadow edge",
-        "lensed light", "plain"), for the labels in the view.
+        What the pixels chosen by :func:`~warpviz.viewer.picking.teaching_pixels` show ("edge of the
+        shadow", "light bent round the hole", "light that hardly bends"), for the labels in the view.
     source : scene or None
         The scene the image was rendered from (a Scene or native dict), so the view can refine it.
     preview : dict or None

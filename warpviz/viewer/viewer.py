@@ -2,7 +2,7 @@
 
 :func:`view` opens a PyVista window with two panels. On the left is the rendered image (tonemapped
 with :meth:`warpviz.Image.to_uint8`) with the pixels whose paths were recorded outlined and the pixels the
-view chose labelled (shadow edge, lensed light, plain); on the right the 3-D scene: the recorded rays as
+view chose labelled in words (edge of the shadow, light bent round the hole, light that hardly bends); on the right the 3-D scene: the recorded rays as
 polylines coloured by the largest relative drift of their conserved quantities (``log10_error``:
 |X − X₀| / |X₀| where X₀ is not negligible against its terms, term-scaled otherwise and for H; see
 :class:`warpviz.RayBundle`), or by ``r``, redshift or affine parameter, with a colour bar naming the
