@@ -57,7 +57,7 @@ def test_recording_layout_and_point_data():
     assert rays.points.dtype == np.float64 and rays.points.shape == (p, 3)
     assert rays.offsets.shape == (n + 1,) and rays.offsets[0] == 0 and rays.offsets[-1] == p
     expected = {"affine_param", "coord_time", "r", "step_size", "hamiltonian_err", "E_drift", "Lz_drift",
-                "L2_drift", "E_drift_scaled", "Lz_drift_scaled", "L2_drift_scaled", "log10_error", "redshift",
+                "L2_drift", "E_drift_scaled", "Lz_drift_scaled", "L2_drift_scaled", "log10_error", "log10_error_scaled", "redshift",
                 "sheet"}
     assert set(rays.point_data) == expected
     for v in rays.point_data.values():

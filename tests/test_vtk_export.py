@@ -75,7 +75,7 @@ def test_vtp_round_trip_keeps_every_array_exactly(tmp_path):
     # point data: exactly the bundle's arrays
     assert sorted(back.point_data.keys()) == sorted(rays.point_data)
     assert {"affine_param", "coord_time", "r", "step_size", "hamiltonian_err", "E_drift", "Lz_drift", "Q_drift",
-            "E_drift_scaled", "Lz_drift_scaled", "Q_drift_scaled", "log10_error", "redshift", "sheet"} == set(rays.point_data)  # fmt: skip
+            "E_drift_scaled", "Lz_drift_scaled", "Q_drift_scaled", "log10_error", "log10_error_scaled", "redshift", "sheet"} == set(rays.point_data)  # fmt: skip
     for name, values in rays.point_data.items():
         assert_same_array(back.point_data[name], values, name)
     # cell data

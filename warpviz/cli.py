@@ -597,7 +597,7 @@ def view(
     flat_ray: bool = typer.Option(
         False, "--flat-ray", help="Draw the straight flat-space ray (no gravity) beside each shown pixel's bent one."),
     color_by: Optional[str] = typer.Option(
-        None, "--color-by", help="Colour the paths by drift (largest relative drift of the conserved quantities, "
+        None, "--color-by", help="Colour the paths by drift (largest drift of the conserved quantities against their terms, "
         "the default), r, redshift or affine (the affine parameter); key c cycles them."),
     spp: Optional[int] = typer.Option(
         None, "--spp", min=1, max=MAX_SPP, help="Samples per pixel of a scene's image panel (default 4; with --time "

@@ -46,11 +46,14 @@ def recorded_point_data(columns: np.ndarray, names) -> dict[str, np.ndarray]:
     -------
     dict[str, numpy.ndarray]
         Each column as a (P,) array (``sheet`` as int8) plus ``log10_error``, the log10 of the largest of
-        ``hamiltonian_err`` and the drifts at each point.
+        ``hamiltonian_err`` and the reported drifts at each point, and ``log10_error_scaled``, the same of
+        ``hamiltonian_err`` and the term-scaled drifts: the digits the integration kept, which a quantity
+        small against its own terms (Lz or Q of a ray near the axis or the equator) does not inflate.
     """
     point_data = {name: columns[i].astype(np.int8) if name == "sheet" else columns[i] for i, name in enumerate(names)}
-    errors = [point_data["hamiltonian_err"]] + [point_data[n] for n in names if n.endswith("_drift")]
-    point_data["log10_error"] = np.log10(np.maximum(np.max(np.stack(errors), axis=0), 1e-300))
+    for out, suffix in (("log10_error", "_drift"), ("log10_error_scaled", "_drift_scaled")):
+        errors = [point_data["hamiltonian_err"]] + [point_data[n] for n in names if n.endswith(suffix)]
+        point_data[out] = np.log10(np.maximum(np.max(np.stack(errors), axis=0), 1e-300))
     return point_data
 
 
@@ -102,7 +105,8 @@ class RayBundle:
         radius), ``step_size``, ``hamiltonian_err`` (term-scaled), ``<invariant>_drift`` for each invariant
         but H (the reported drift there, by :attr:`invariant_drift`'s rule), ``<invariant>_drift_scaled``
         (term-scaled), ``log10_error`` (log10 of the largest of ``hamiltonian_err`` and the reported
-        drifts), ``redshift`` (photon frequency seen by
+        drifts), ``log10_error_scaled`` (the same of the term-scaled drifts: the digits kept, what the
+        teaching view colours by), ``redshift`` (photon frequency seen by
         the local static observer, or ZAMO, over the one at the ray's start; 0 on a horizon),
         ``sheet`` (int8).
     ray_data : dict[str, numpy.ndarray]

@@ -48,12 +48,16 @@ __all__ = [
 ]
 
 #: The colourings one key (``c``) cycles through: name -> point array of the recorded rays.
-COLORINGS = {"drift": "log10_error", "r": "r", "redshift": "redshift", "affine": "affine_param"}
+#: ``drift`` shows the term-scaled drift (the digits each conserved quantity kept): the relative drift
+#: |X - X0| / |X0| of a quantity that is small against its own terms (Lz or Q of a ray near the axis or
+#: the equator) is the same rounding divided by a small number, and read 2e-5 in fig10d where every
+#: quantity kept 6.4 digits.
+COLORINGS = {"drift": "log10_error_scaled", "r": "r", "redshift": "redshift", "affine": "affine_param"}
 
 #: The colouring a view starts with.
 DEFAULT_COLORING = "drift"
 
-#: A ray whose largest relative drift of a conserved quantity stays below this is trustworthy. At the
+#: A ray whose largest term-scaled drift of a conserved quantity stays below this is trustworthy. At the
 #: renderer's default tolerance (1e-7 per step) the median camera ray of fig04, fig07, fig10d and fig13
 #: drifts by 1e-7 to 3e-7 (measured over 192 pixels each); a ray is marked ``invariant_violation`` when
 #: its term-scaled drift passes :func:`warpviz.default_max_drift` (1e-4 there).
@@ -245,9 +249,13 @@ def legend_entries(drawn: Sequence[str], metric: Metric | None,
     return out
 
 
-def coloring_array(color_by: str) -> str:
-    """The point array a colouring shows: a name of :data:`COLORINGS` or a point array's own name."""
-    return COLORINGS.get(color_by, color_by)
+def coloring_array(color_by: str, available=None) -> str:
+    """The point array a colouring shows: a name of :data:`COLORINGS` or a point array's own name. Rays
+    saved before ``log10_error_scaled`` existed (``available``: their point arrays) show ``log10_error``."""
+    array = COLORINGS.get(color_by, color_by)
+    if array == "log10_error_scaled" and available is not None and array not in available and "log10_error" in available:
+        return "log10_error"
+    return array
 
 
 def coloring_title(color_by: str, metric: Metric | None, *, fallback: dict[str, str] | None = None) -> str:
@@ -267,13 +275,14 @@ def coloring_title(color_by: str, metric: Metric | None, *, fallback: dict[str, 
     str
     """
     array = coloring_array(color_by)
-    if array == "log10_error":
+    if array in ("log10_error_scaled", "log10_error"):
         names = metric.invariant_names if metric is not None else ["H", "E", "Lz", "Q"]
         words = [INVARIANT_WORDS.get(n, n) for n in names if n != "H"] or ["H"]
         quantities = ", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else words[0]
         good = round(math.log10(GOOD_DRIFT))
+        which = "error against the size of its terms" if array == "log10_error_scaled" else "relative error"
         return (f"how well each ray keeps {quantities}\n"
-                f"log10 of its largest relative error: -10 = ten correct digits, good below {good}")  # fmt: skip
+                f"log10 of its largest {which}: -10 = ten correct digits, good below {good}")  # fmt: skip
     if array == "r":
         return f"radius r ({length_unit(metric)})"
     if array == "redshift":

@@ -3,8 +3,8 @@
 :func:`view` opens a PyVista window with two panels. On the left is the rendered image (tonemapped
 with :meth:`warpviz.Image.to_uint8`) with the pixels whose paths were recorded outlined and the pixels the
 view chose labelled in words (edge of the shadow, light bent round the hole, light that hardly bends); on the right the 3-D scene: the recorded rays as
-polylines coloured by the largest relative drift of their conserved quantities (``log10_error``:
-|X − X₀| / |X₀| where X₀ is not negligible against its terms, term-scaled otherwise and for H; see
+polylines coloured by the largest drift of their conserved quantities against the size of their terms
+(``log10_error_scaled``: the digits each kept; the relative drift |X − X₀| / |X₀| is ``log10_error``, see
 :class:`warpviz.RayBundle`), or by ``r``, redshift or affine parameter, with a colour bar naming the
 quantity; the scene's shapes; the spacetime's landmarks (horizon, ergosphere, photon sphere or Kerr photon
 region, Ellis throat) drawn translucent and labelled with their radii (in M, or throat radii, with the
@@ -107,8 +107,8 @@ def view(
         without a selection of the pixels the view chose.
     color_by : str, keyword-only
         What the rays are coloured by: a colouring of
-        :data:`~warpviz.viewer.annotations.COLORINGS` (``"drift"``: log10 of the largest relative drift
-        of the conserved quantities, ``"r"``, ``"redshift"``, ``"affine"``; key ``c`` cycles them) or any
+        :data:`~warpviz.viewer.annotations.COLORINGS` (``"drift"``: log10 of the largest term-scaled
+        drift of the conserved quantities, ``"r"``, ``"redshift"``, ``"affine"``; key ``c`` cycles them) or any
         point array of the rays (``"log10_error"``, ``"step_size"``, ...).
     bounces : int or None or "auto", keyword-only
         Largest bounce of each recorded path drawn (0: the camera segments only; None: every segment;

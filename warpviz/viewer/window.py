@@ -37,6 +37,7 @@ __all__ = ["SCALAR_TITLES", "TeachingView"]
 #: Scalar-bar titles of the point arrays rays can be coloured by.
 SCALAR_TITLES = {
     "log10_error": "log10 drift |X-X0|/|X0| (X0~0: scaled)",
+    "log10_error_scaled": "log10 drift / size of the terms (digits kept)",
     "hamiltonian_err": "|2H| / size of its terms (null condition)",
     "r": "radius r (M)",
     "affine_param": "affine parameter",
@@ -327,7 +328,7 @@ class TeachingView:
             shown = self.rays.copy()
             if self._embedding and "sheet" in shown.point_data:
                 shown.points = ellis_embedding_points(self.metric, shown.points, shown.point_data["sheet"])
-            array = coloring_array(self.color_by)
+            array = coloring_array(self.color_by, shown.point_data.keys())
             if array not in shown.point_data:
                 raise ValueError(f"color_by={self.color_by!r} is not a colouring ({', '.join(COLORINGS)}) or a point "
                                  f"array of the rays; available: {', '.join(sorted(shown.point_data.keys()))}")  # fmt: skip
@@ -359,18 +360,19 @@ class TeachingView:
         """(Re)draw the rays of the shown bounces, coloured by :attr:`color_by`, with their colour bar."""
         p = self.plotter
         shown = self.shown_rays
-        array = coloring_array(self.color_by)
+        array = coloring_array(self.color_by, shown.point_data.keys())
         bounce = np.asarray(shown.cell_data["bounce"]) if "bounce" in shown.cell_data else None
         self._visible = visible_ray_ids(bounce, shown.n_cells, self.bounces)
         mesh = shown.extract_cells(self._visible)
         values = np.asarray(mesh.point_data[array], dtype=np.float64) if mesh.n_points else np.zeros(0)
         finite = values[np.isfinite(values)]
         lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
-        if array == "log10_error":
+        if array in ("log10_error", "log10_error_scaled"):
             lo, hi = max(lo, _LOG10_FLOOR), max(hi, _LOG10_FLOOR)
         if hi <= lo:
             lo, hi = lo - 0.5, lo + 0.5
-        title = coloring_title(self.color_by, self.metric, fallback=SCALAR_TITLES)
+        shown_as = array if self.color_by in COLORINGS else self.color_by  # old rays: their log10_error
+        title = coloring_title(shown_as, self.metric, fallback=SCALAR_TITLES)
         p.subplot(0, self._scene_col)  # the colour bar goes into the 3-D panel
         if self._bar_title is not None and self._bar_title in p.scalar_bars:
             p.remove_scalar_bar(self._bar_title, render=False)
@@ -408,7 +410,7 @@ class TeachingView:
             return self.color_by
         available = list(self.shown_rays.point_data.keys())
         target = next_coloring(self.color_by, available) if color_by is None else str(color_by)
-        if coloring_array(target) not in available:
+        if coloring_array(target, available) not in available:
             raise ValueError(f"color_by={target!r} is not a colouring ({', '.join(COLORINGS)}) or a point array "
                              f"of the rays; available: {', '.join(sorted(available))}")  # fmt: skip
         self.color_by = target
