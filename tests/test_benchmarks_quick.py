@@ -231,7 +231,8 @@ def test_time_to_clean_benchmark_quick_mode_builds_its_reference_in_pieces(tmp_p
     import bench_time_to_clean
 
     cache = tmp_path / "refs"
-    args = ["--quick", "--scenes", "fig07", "--out", str(tmp_path), "--cache", str(cache)]
+    # a target no second of rendering reaches, so each run adds to the reference (at least one pass)
+    args = ["--quick", "--scenes", "fig07", "--ref-spp", "100000", "--out", str(tmp_path), "--cache", str(cache)]
     bench_time_to_clean.main(args)
     first = wv_spp(cache)
     summary = bench_time_to_clean.main(args)  # the reference grows by another second per half
