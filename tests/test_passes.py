@@ -207,8 +207,21 @@ def test_an_interruption_keeps_the_finished_passes_whole():
 
 
 _SIGNALLED_RESUME = """
-import sys
+import contextlib, sys
 from warpviz import cli
+real = cli._progress_bar
+@contextlib.contextmanager
+def announcing(label, *, enabled, **kw):
+    with real(label, enabled=False, **kw) as update:
+        said = []
+        def progress(done, total):
+            if not said:
+                print("rendering", file=sys.stderr, flush=True)
+                said.append(True)
+            update(done, total)
+        progress.on_pass = update.on_pass
+        yield progress
+cli._progress_bar = announcing
 sys.argv = ["warpviz"] + sys.argv[1:]
 cli.main()
 """
@@ -221,11 +234,11 @@ def test_sigterm_during_a_resumed_render_keeps_the_earlier_passes(tmp_path):
            "--threads", "1", "--resume", str(out), "-q"]  # fmt: skip
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
-        deadline = time.time() + 60
-        # the render has started once the resumed passes are read: give it a few passes
-        time.sleep(2.5)
+        first = proc.stderr.readline()  # the resumed render's first pass is under way
+        assert first.strip() == "rendering", first + proc.stderr.read()
+        time.sleep(1.0)  # a few passes
         proc.send_signal(signal.SIGTERM)
-        _, stderr = proc.communicate(timeout=max(1.0, deadline - time.time()))
+        _, stderr = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
             proc.kill()
