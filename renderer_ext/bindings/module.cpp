@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "bindings/arrays.h"
@@ -129,18 +131,9 @@ nb::dict film_to_dict(wv::Film&& f) {
   nb::dict d;
   d["x0"] = f.x0;
   d["y0"] = f.y0;
-  d["rgb_sum"] = film_array(std::move(f.rgb_sum), H, W, 3);
-  d["rgb_sq_sum"] = film_array(std::move(f.rgb_sq_sum), H, W, 3);
-  d["samples"] = film_array(std::move(f.samples), H, W, 1);
-  d["errors"] = film_array(std::move(f.errors), H, W, 1);
-  d["steps_sum"] = film_array(std::move(f.steps_sum), H, W, 1);
-  d["max_drift"] = film_array(std::move(f.max_drift), H, W, 1);
-  d["redshift"] = film_array(std::move(f.redshift), H, W, 1);
-  d["status"] = film_array(std::move(f.status), H, W, 1);
-  d["depth"] = film_array(std::move(f.depth), H, W, 1);
-  d["normal"] = film_array(std::move(f.normal), H, W, 3);
-  d["albedo_sum"] = film_array(std::move(f.albedo_sum), H, W, 3);
-  d["albedo_normal_sum"] = film_array(std::move(f.albedo_normal_sum), H, W, 3);
+  wv::Film::for_each_array(f, [&](const char* name, auto& v, size_t c, auto) {
+    d[name] = film_array(std::move(v), H, W, c);
+  });
   return d;
 }
 
@@ -170,30 +163,24 @@ void film_vector(const nb::dict& d, const char* key, size_t H, size_t W, size_t 
   else v.clear();
 }
 
+// A film dict's window size (H, W), from its sample counts.
+std::pair<size_t, size_t> film_shape(const nb::dict& d) {
+  nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu> samples;
+  if (!d.contains("samples") || !nb::try_cast(d["samples"], samples) || samples.ndim() != 2)
+    throw std::invalid_argument("film: 'samples' must be an int32 array of shape (H, W)");
+  return {samples.shape(0), samples.shape(1)};
+}
+
 wv::Film film_from_dict(const nb::dict& d) {
   wv::Film f;
-  if (!d.contains("x0") || !d.contains("y0") || !d.contains("samples"))
+  if (!d.contains("x0") || !d.contains("y0"))
     throw std::invalid_argument("film must be a dict made by the renderer");
   f.x0 = nb::cast<int>(d["x0"]);
   f.y0 = nb::cast<int>(d["y0"]);
-  nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu> samples;
-  if (!nb::try_cast(d["samples"], samples) || samples.ndim() != 2)
-    throw std::invalid_argument("film: 'samples' must be an int32 array of shape (H, W)");
-  const size_t H = samples.shape(0), W = samples.shape(1);
+  const auto [H, W] = film_shape(d);
   f.height = int(H);
   f.width = int(W);
-  film_vector(d, "rgb_sum", H, W, 3, f.rgb_sum);
-  film_vector(d, "rgb_sq_sum", H, W, 3, f.rgb_sq_sum);
-  film_vector(d, "samples", H, W, 1, f.samples);
-  film_vector(d, "errors", H, W, 1, f.errors);
-  film_vector(d, "steps_sum", H, W, 1, f.steps_sum);
-  film_vector(d, "max_drift", H, W, 1, f.max_drift);
-  film_vector(d, "redshift", H, W, 1, f.redshift);
-  film_vector(d, "status", H, W, 1, f.status);
-  film_vector(d, "depth", H, W, 1, f.depth);
-  film_vector(d, "normal", H, W, 3, f.normal);
-  film_vector(d, "albedo_sum", H, W, 3, f.albedo_sum);
-  film_vector(d, "albedo_normal_sum", H, W, 3, f.albedo_normal_sum);
+  wv::Film::for_each_array(f, [&](const char* name, auto& v, size_t c, auto) { film_vector(d, name, H, W, c, v); });
   return f;
 }
 
@@ -205,16 +192,12 @@ struct SumsIn {
 
 SumsIn sums_from_dict(const nb::dict& d) {
   SumsIn in;
-  nb::ndarray<const int32_t, nb::c_contig, nb::device::cpu> samples;
-  if (!d.contains("samples") || !nb::try_cast(d["samples"], samples) || samples.ndim() != 2)
-    throw std::invalid_argument("film: 'samples' must be an int32 array of shape (H, W)");
-  in.H = samples.shape(0);
-  in.W = samples.shape(1);
+  std::tie(in.H, in.W) = film_shape(d);
   const size_t H = in.H, W = in.W;
   in.sums.n = H * W;
   in.sums.rgb_sum = film_data<double>(d, "rgb_sum", H, W, 3, false);
   in.sums.rgb_sq_sum = film_data<double>(d, "rgb_sq_sum", H, W, 3, false);
-  in.sums.samples = samples.data();
+  in.sums.samples = film_data<int32_t>(d, "samples", H, W, 1, false);
   in.sums.errors = film_data<int32_t>(d, "errors", H, W, 1, false);
   in.sums.steps_sum = film_data<double>(d, "steps_sum", H, W, 1, true);
   in.sums.albedo_sum = film_data<double>(d, "albedo_sum", H, W, 3, true);

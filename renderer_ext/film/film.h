@@ -41,36 +41,45 @@ struct Film {
   std::vector<double> albedo_sum;         // (H, W, 3) albedo in [0, 1] (an emitter: its colour)
   std::vector<double> albedo_normal_sum;  // (H, W, 3) user-frame normal there
 
+  // Every per-pixel array, once: f(name, array, channels, flag) with `flag` the FilmAovs member that
+  // keeps it (null: always kept). resize, has_layout and the bindings' film dict all go through this
+  // list, so an array added to the film is added here and nowhere else.
+  template <class Self, class F>
+  static void for_each_array(Self& film, F&& f) {
+    f("rgb_sum", film.rgb_sum, 3, nullptr);
+    f("rgb_sq_sum", film.rgb_sq_sum, 3, nullptr);
+    f("samples", film.samples, 1, nullptr);
+    f("errors", film.errors, 1, nullptr);
+    f("steps_sum", film.steps_sum, 1, &FilmAovs::n_steps);
+    f("max_drift", film.max_drift, 1, &FilmAovs::max_drift);
+    f("redshift", film.redshift, 1, &FilmAovs::redshift);
+    f("status", film.status, 1, &FilmAovs::status);
+    f("depth", film.depth, 1, &FilmAovs::depth);
+    f("normal", film.normal, 3, &FilmAovs::normal);
+    f("albedo_sum", film.albedo_sum, 3, &FilmAovs::albedo);
+    f("albedo_normal_sum", film.albedo_normal_sum, 3, &FilmAovs::albedo_normal);
+  }
+
   void resize(int x, int y, int w, int h, const FilmAovs& a) {
     x0 = x;
     y0 = y;
     width = w;
     height = h;
     const size_t n = size_t(w) * size_t(h);
-    rgb_sum.assign(3 * n, 0.0);
-    rgb_sq_sum.assign(3 * n, 0.0);
-    samples.assign(n, 0);
-    errors.assign(n, 0);
-    steps_sum.assign(a.n_steps ? n : 0, 0.0);
-    max_drift.assign(a.max_drift ? n : 0, 0.0f);
-    redshift.assign(a.redshift ? n : 0, 0.0f);
-    status.assign(a.status ? n : 0, 0.0f);
-    depth.assign(a.depth ? n : 0, 0.0f);
-    normal.assign(a.normal ? 3 * n : 0, 0.0f);
-    albedo_sum.assign(a.albedo ? 3 * n : 0, 0.0);
-    albedo_normal_sum.assign(a.albedo_normal ? 3 * n : 0, 0.0);
+    for_each_array(*this, [&](const char*, auto& v, size_t c, bool FilmAovs::*flag) {
+      v.assign(!flag || a.*flag ? c * n : 0, {});  // zeros
+    });
   }
 
   // Whether this film covers window (x, y, w, h) and keeps exactly the AOVs `a` (the layout resize makes):
   // sums of earlier samples that a render may continue.
   bool has_layout(int x, int y, int w, int h, const FilmAovs& a) const {
     const size_t n = size_t(w) * size_t(h);
-    auto is = [](size_t size, bool kept, size_t per) { return size == (kept ? per : 0); };
-    return x0 == x && y0 == y && width == w && height == h && rgb_sum.size() == 3 * n && rgb_sq_sum.size() == 3 * n &&
-           samples.size() == n && errors.size() == n && is(steps_sum.size(), a.n_steps, n) &&
-           is(max_drift.size(), a.max_drift, n) && is(redshift.size(), a.redshift, n) &&
-           is(status.size(), a.status, n) && is(depth.size(), a.depth, n) && is(normal.size(), a.normal, 3 * n) &&
-           is(albedo_sum.size(), a.albedo, 3 * n) && is(albedo_normal_sum.size(), a.albedo_normal, 3 * n);
+    bool same = x0 == x && y0 == y && width == w && height == h;
+    for_each_array(*this, [&](const char*, const auto& v, size_t c, bool FilmAovs::*flag) {
+      same = same && v.size() == (!flag || a.*flag ? c * n : 0);
+    });
+    return same;
   }
 
   // Index of image pixel (px, py), which must lie in the window.
