@@ -26,6 +26,8 @@ from warpviz.render.memory import RenderTooLarge, render_bytes
 from warpviz.render.render import OPTIONAL_AOVS
 from warpviz.scene import SceneError
 
+from announcing_cli import ANNOUNCING_CLI
+
 runner = CliRunner()
 
 SCENE = """\
@@ -427,29 +429,11 @@ def test_recorded_pixels_in_a_crop_window_are_the_same_paths():
 # -------------------------------------------------------------------------------------------- signals
 # The real command line in a child process; its progress callback says on stderr when the render loop
 # runs, so the signal arrives inside the render (not during the imports).
-_ANNOUNCING_CLI = """
-import contextlib, sys
-from warpviz import cli
-real = cli._progress_bar
-@contextlib.contextmanager
-def announcing(label, *, enabled):
-    with real(label, enabled=False) as update:
-        said = []
-        def progress(done, total):
-            if not said:
-                print("rendering", file=sys.stderr, flush=True)
-                said.append(True)
-            update(done, total)
-        yield progress
-cli._progress_bar = announcing
-sys.argv = ["warpviz"] + sys.argv[1:]
-cli.main()
-"""
 
 
 def _render_until_signalled(tmp_path: Path, sig: int) -> tuple[subprocess.CompletedProcess, Path]:
     out = tmp_path / "partial.exr"
-    cmd = [sys.executable, "-c", _ANNOUNCING_CLI, "render", "fig07", "--size", "48x36", "--spp", "100000",
+    cmd = [sys.executable, "-c", ANNOUNCING_CLI, "render", "fig07", "--size", "48x36", "--spp", "100000",
            "--threads", "1", "-o", str(out)]  # fmt: skip
     # Ctrl-C's default action, as in a terminal: a test run started as a background job of a
     # non-interactive shell has SIGINT ignored, the child would inherit that, and Python then never

@@ -21,6 +21,8 @@ from warpviz import cli
 from warpviz._native import core
 from warpviz.render.passes import PASS_SAMPLES, next_pass, noise_estimate, standard_pass
 
+from announcing_cli import ANNOUNCING_CLI
+
 SMALL = {"width": 24, "height": 18}
 
 
@@ -206,31 +208,12 @@ def test_an_interruption_keeps_the_finished_passes_whole():
     np.testing.assert_array_equal(img.rgb, wv.render("fig07", **SMALL, spp=4, threads=2).rgb)
 
 
-_SIGNALLED_RESUME = """
-import contextlib, sys
-from warpviz import cli
-real = cli._progress_bar
-@contextlib.contextmanager
-def announcing(label, *, enabled, **kw):
-    with real(label, enabled=False, **kw) as update:
-        said = []
-        def progress(done, total):
-            if not said:
-                print("rendering", file=sys.stderr, flush=True)
-                said.append(True)
-            update(done, total)
-        progress.on_pass = update.on_pass
-        yield progress
-cli._progress_bar = announcing
-sys.argv = ["warpviz"] + sys.argv[1:]
-cli.main()
-"""
 
 
 def test_sigterm_during_a_resumed_render_keeps_the_earlier_passes(tmp_path):
     out = tmp_path / "r.exr"
     assert _invoke("render", "fig07", "--size", "48x36", "--spp", "6", "-o", out, "-q").exit_code == 0
-    cmd = [sys.executable, "-c", _SIGNALLED_RESUME, "render", "fig07", "--size", "48x36", "--spp", "100000",
+    cmd = [sys.executable, "-c", ANNOUNCING_CLI, "render", "fig07", "--size", "48x36", "--spp", "100000",
            "--threads", "1", "--resume", str(out), "-q"]  # fmt: skip
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
