@@ -88,3 +88,17 @@ def test_wormhole_window_of_fig13():
     dirs = np.cos(angles)[:, None] * inward + np.sin(angles)[:, None] * side
     rays = wv.trace(ellis, position, dirs, escape_radius=500)
     assert rays.final_sheets.tolist() == [-1, 1]
+
+
+def test_window_of_the_fig13_wormhole_against_the_closed_form():
+    """fig13: the camera at areal radius |(0, -15, 2)| = 15.13 from an Ellis throat of radius 8 sees the
+    other side through a circle of angular radius asin(b0 / r), which the image panel draws and labels."""
+    from warpviz.scene import load_scene
+    from warpviz.viewer.image_marks import edge_circle
+
+    scene = load_scene("fig13")
+    cam = scene.native()["camera"]
+    r = float(np.linalg.norm(cam["position"]))
+    assert math.degrees(math.asin(8.0 / r)) == pytest.approx(31.91, abs=1e-2)
+    _, label = edge_circle(scene.metric, cam, cam["width"], cam["height"])
+    assert label == "window radius 31.9° (exact)"

@@ -39,7 +39,7 @@ UPDATE_CACHE = os.environ.get("WARPVIZ_UPDATE_IMAGE_CACHE") == "1"
 WIDTH, HEIGHT = 48, 24
 ROW = np.column_stack([np.arange(0, WIDTH, 4), np.full(WIDTH // 4, HEIGHT // 2)])  # 12 pixels of the middle row
 SELECTED = (16, 12)  # just left of the shadow: its camera ray is bent strongly
-WINDOW = (480, 240)
+WINDOW = (800, 400)
 LIME = (0, 255, 0)  # the flat-space ray
 MAGENTA = (255, 0, 255)  # the selected pixel's outline and rays
 

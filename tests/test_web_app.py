@@ -209,6 +209,19 @@ def test_browser_shows_the_view_selects_pixels_and_rerenders_on_the_spin_slider(
             assert page.title().startswith("warpviz: "), page.title()  # not trame's default "Trame"
             # every slider shows its value (the thumb label is always on)
             assert page.locator("#warpviz-slider-spin .v-slider-thumb__label").count() == 1
+            # and nothing on the page overlaps: the texts, the sliders' values, the picture, the 3-D panel
+            boxes = [(sel, page.locator(sel).bounding_box()) for sel in
+                     ("#warpviz-image", "#warpviz-status", "#warpviz-hint", "#warpviz-3d")]  # fmt: skip
+            labels = page.locator(".v-slider-thumb__label")
+            boxes += [(f"slider value {i}", labels.nth(i).bounding_box()) for i in range(labels.count())]
+            boxes += [(f"slider {i}", page.locator(".warpviz-slider .v-slider").nth(i).bounding_box())
+                      for i in range(page.locator(".warpviz-slider .v-slider").count())]  # fmt: skip
+            flat = [(name, (b["x"], b["x"] + b["width"], b["y"], b["y"] + b["height"])) for name, b in boxes if b]
+            from warpviz.viewer.layout import overlapping
+
+            own = {(f"slider value {i}", f"slider {i}") for i in range(labels.count())}  # a value on its slider
+            clashes = [pair for pair in overlapping(flat) if pair not in own]
+            assert clashes == [], clashes
             # and nothing went wrong on the page (the session probe once failed with HTTP 405)
             assert not [c for c in console if c[0] in ("error", "response")], console
         finally:

@@ -17,7 +17,7 @@ Examples
 >>> length_text(15.13, wv.EllisWormhole(throat=8.0))
 '1.891 b0 (15.13 units)'
 >>> [label for label, _ in legend_entries(["horizon", "camera", "rays"], wv.Schwarzschild(mass=1.0))]
-['horizon r = 2 M', 'camera', 'recorded light paths (colours: the bar below)']
+['horizon', 'camera', 'light paths (colour: see the bar)']
 """
 
 from __future__ import annotations
@@ -75,15 +75,15 @@ LEGEND_STYLE = {
     "surfaces": ("scene objects", "tan"),
     "other_surfaces": ("objects on the other side", "sandybrown"),
     "camera": ("camera", "darkorange"),
-    "rays": ("recorded light paths (colours: the bar below)", "purple"),  # the window gives the drawn colour
+    "rays": ("light paths (colour: see the bar)", "purple"),  # the window gives the drawn colour
     "highlight": ("selected pixel's paths", "magenta"),
     "picked": ("clicked ray", "yellow"),
     "flat_rays": ("flat-space ray (no gravity)", "lime"),
 }
 
 #: Each conserved quantity in words, for the drift colouring's title.
-INVARIANT_WORDS = {"H": "the null condition H", "E": "energy E", "Lz": "angular momentum Lz",
-                   "L2": "L^2", "Q": "Carter's constant Q"}  # fmt: skip
+INVARIANT_WORDS = {"H": "the null condition", "E": "energy", "Lz": "angular momentum", "L2": "angular momentum",
+                   "Q": "Carter's constant"}  # fmt: skip
 
 _FEATURE_NAMES = {"horizon": "horizon", "ergosphere": "ergosphere", "photon_sphere": "photon sphere",
                   "throat": "throat"}  # fmt: skip
@@ -222,7 +222,9 @@ def legend_entries(drawn: Sequence[str], metric: Metric | None,
     drawn : sequence of str
         Keys of :data:`LEGEND_STYLE` of the items drawn now (repeats listed once).
     metric : Metric or None
-        For the landmarks' labels (their radii).
+        Names Kerr's photon orbits a region. The legend says what each colour is; the radii are in the
+        labels beside the landmarks (:func:`landmark_labels`), so the legend stays narrow enough for
+        text read from the back of a room.
     colors : dict[str, str], optional
         Colours of items drawn in other colours than :data:`LEGEND_STYLE`'s: the recorded paths, drawn
         through a colour map, are shown in the colour of their median value.
@@ -236,7 +238,7 @@ def legend_entries(drawn: Sequence[str], metric: Metric | None,
     KeyError
         A key that is not in :data:`LEGEND_STYLE`.
     """
-    labels = landmark_labels(metric)
+    region = metric is not None and "photon_prograde" in metric.landmarks  # Kerr: a region of orbits
     out, seen = [], set()
     for key in drawn:
         if key in seen:
@@ -245,7 +247,9 @@ def legend_entries(drawn: Sequence[str], metric: Metric | None,
             raise KeyError(f"no legend entry for {key!r}; known: {', '.join(LEGEND_STYLE)}")
         seen.add(key)
         label, color = LEGEND_STYLE[key]
-        out.append((labels.get(key, label), (colors or {}).get(key, color)))
+        if key == "photon_sphere" and region:
+            label = "photon region"
+        out.append((label, (colors or {}).get(key, color)))
     return out
 
 
@@ -277,12 +281,12 @@ def coloring_title(color_by: str, metric: Metric | None, *, fallback: dict[str, 
     array = coloring_array(color_by)
     if array in ("log10_error_scaled", "log10_error"):
         names = metric.invariant_names if metric is not None else ["H", "E", "Lz", "Q"]
-        words = [INVARIANT_WORDS.get(n, n) for n in names if n != "H"] or ["H"]
+        words = list(dict.fromkeys(INVARIANT_WORDS.get(n, n) for n in names if n != "H")) or ["H"]
         quantities = ", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else words[0]
         good = round(math.log10(GOOD_DRIFT))
-        which = "error against the size of its terms" if array == "log10_error_scaled" else "relative error"
+        which = "error" if array == "log10_error_scaled" else "relative error"  # scaled: against its terms
         return (f"how well each ray keeps {quantities}\n"
-                f"log10 of its largest {which}: -10 = ten correct digits, good below {good}")  # fmt: skip
+                f"log10 of the {which}: -10 is ten correct digits; good below {good}")  # fmt: skip
     if array == "r":
         return f"radius r ({length_unit(metric)})"
     if array == "redshift":

@@ -126,3 +126,28 @@ def _around(bounds: np.ndarray, points: np.ndarray) -> np.ndarray:
     if len(points):
         half = np.maximum(half, np.abs(points - centre).max(axis=0))
     return np.column_stack([centre - half, centre + half]).ravel()
+
+
+def _cut_lines_at(poly, reach: float):
+    """The polylines of ``poly`` each cut after its first point farther than ``reach`` from the z axis
+    (one cell per line kept, in order, so cell ids still name the rays; point data kept)."""
+    from vtkmodules.util.numpy_support import numpy_to_vtkIdTypeArray, vtk_to_numpy
+
+    out = poly.copy()
+    lines = out.GetLines()
+    if lines is None or not lines.GetNumberOfCells():
+        return out
+    offsets = vtk_to_numpy(lines.GetOffsetsArray()).astype(np.int64)
+    ids = vtk_to_numpy(lines.GetConnectivityArray()).astype(np.int64)
+    far = np.hypot(*np.asarray(out.points, dtype=np.float64)[:, :2].T) > reach
+    keep_ids, keep_offsets = [], [0]
+    for a, b in zip(offsets[:-1], offsets[1:]):
+        cell = ids[a:b]
+        beyond = np.flatnonzero(far[cell])
+        cell = cell[: max(2, beyond[0] + 1)] if len(beyond) else cell
+        keep_ids.append(cell)
+        keep_offsets.append(keep_offsets[-1] + len(cell))
+    lines.SetData(numpy_to_vtkIdTypeArray(np.asarray(keep_offsets, dtype=np.int64), deep=True),
+                  numpy_to_vtkIdTypeArray(np.concatenate(keep_ids).astype(np.int64), deep=True))  # fmt: skip
+    out.Modified()
+    return out

@@ -16,6 +16,7 @@ from warpviz.tracing import RayStatus
 from warpviz.viewer.annotations import (
     COLORINGS,
     DEFAULT_COLORING,
+    GOOD_DRIFT,
     LEGEND_STYLE,
     coloring_array,
     coloring_title,
@@ -27,7 +28,10 @@ from warpviz.viewer.annotations import (
     view_title,
     visible_ray_ids,
 )
-from warpviz.viewer.meshes import _around, _first_points, _focus_bounds, _image_grid, _pixel_outlines, _surface_rgb
+from warpviz.viewer.decorations import bar_range, draw_legend, legend_rows, round_axes
+from warpviz.viewer.image_marks import angle_ticks, edge_circle
+from warpviz.viewer.layout import BAR_BOX, add_text, font_px, line_px, overlapping, text_box, text_scale, wrap
+from warpviz.viewer.meshes import _around, _cut_lines_at, _first_points, _focus_bounds, _image_grid, _pixel_outlines, _surface_rgb
 from warpviz.viewer.picking import image_cell_to_pixel, pixel_for_ray, rays_for_pixel, recorded_pixels
 from warpviz.viewer.progressive import DEFAULT_MAX_SPP, DEFAULT_REFRESH_MS, BackgroundRefiner, ProgressivePreview
 from warpviz.viewer.view_content import ViewContent
@@ -71,8 +75,11 @@ _PICKED_COLOR = LEGEND_STYLE["picked"][1]
 _FLAT_COLOR = LEGEND_STYLE["flat_rays"][1]
 _FRUSTUM_COLOR = LEGEND_STYLE["camera"][1]
 
-#: The 3-D panel's help line.
-_KEYS_HELP = "click a ray or pixel   f: flat-space ray   c: colouring   n: more bounces"
+#: The help line under the status line.
+_KEYS_HELP = "click a ray or a pixel    f: flat-space ray    c: colouring    n: more bounces"
+
+#: The image panel's title.
+IMAGE_TITLE = "What the camera sees"
 
 
 def _weak(method, *, takes_args: bool = True):
@@ -159,12 +166,18 @@ class TeachingView:
         self._rays_actor = None
         self._rays_color = LEGEND_STYLE["rays"][1]
         self._bar_title: str | None = None
+        self._caption_lines = 0
+        self._fit_points = None
+        self.title_text = ""
         self._press: tuple[int, int] | None = None
         self._named_actors: dict[str, Any] = {}
         self._drawn: list[str] = []  # legend keys of the fixed items, in drawing order
         self.legend: list[tuple[str, str]] = []
 
         has_image = self.image is not None
+        self.image_edge_label: str | None = None  # the exact shadow's (window's) label, where drawn
+        self._text_actors: dict[str, list] = {}  # flat texts by role, per panel: for text_boxes()
+        self._scale = text_scale(plotter.window_size, panels=2 if has_image else 1)
         scene_col = 1 if has_image else 0
         self._scene_col = scene_col
         if has_image:
@@ -174,12 +187,41 @@ class TeachingView:
         plotter.subplot(0, scene_col)
         self._scene_renderer = plotter.renderer
         self.shown_rays = self._draw_scene(content)
-        if not has_image:
-            self._status_actor = plotter.add_text("", position="lower_left", font_size=9, name="status")
         self._install_events()
         self.refresh()
 
     # ---------------------------------------------------------------- drawing
+
+    def _panel_px(self, renderer) -> tuple[int, int]:
+        """A panel's size in pixels."""
+        x0, y0, x1, y1 = renderer.GetViewport()
+        width, height = self.plotter.window_size
+        return max(1, round((x1 - x0) * width)), max(1, round((y1 - y0) * height))
+
+    def _text(self, renderer, role: str, text: str, **place):
+        """A flat text of ``role`` (a :data:`~warpviz.viewer.layout.FONT_PX` key) in ``renderer``,
+        kept for :meth:`text_boxes`."""
+        actor = add_text(renderer, text, size=font_px(role, self._scale), **place)
+        self._text_actors.setdefault(role, []).append((renderer, actor))
+        return actor
+
+    def text_boxes(self) -> list[tuple[str, tuple[float, float, float, float]]]:
+        """Where every flat text is drawn now: (role, (x0, x1, y0, y1)) in window pixels, for checking
+        that nothing overlaps (the landmarks' 3-D labels move with the scene and are not among them)."""
+        out = []
+        for role, items in self._text_actors.items():
+            for renderer, actor in items:
+                if actor.GetVisibility() and actor.GetInput():
+                    out.append((role, text_box(actor, renderer)))
+        return out
+
+    def _status_lines(self, renderer) -> None:
+        """The status line and the keys under it, bottom left of ``renderer``."""
+        _, height = self._panel_px(renderer)
+        gap = 6.0 / height
+        self._status_actor = self._text(renderer, "status", "", x=0.012, y=gap + line_px("help", self._scale) / height,
+                                        valign="bottom")  # fmt: skip
+        self._text(renderer, "help", _KEYS_HELP, x=0.012, y=gap, valign="bottom", color="#404040")
 
     def _draw_image(self) -> None:
         p = self.plotter
@@ -191,17 +233,101 @@ class TeachingView:
             if len(marks):
                 outlines = _pixel_outlines(marks, height, pad=0.0, z=0.01)
                 p.add_mesh(outlines, color="gray", line_width=1, lighting=False, pickable=False, name="recorded")
-        if self.pixel_labels:  # what the chosen pixels show, beside them
-            xy = np.array(list(self.pixel_labels), dtype=np.float64).reshape(-1, 2)
-            points = np.column_stack([xy[:, 0] + 0.5, height - 1 - xy[:, 1] + 0.5, np.full(len(xy), 0.03)])
-            p.add_point_labels(points, list(self.pixel_labels.values()), font_size=10, point_size=1,
-                               shape_opacity=0.5, always_visible=True, pickable=False, name="pixel_labels")  # fmt: skip
-        p.add_text("rendered image: click a pixel", position="upper_left", font_size=9, name="image_title")
-        self._status_actor = p.add_text("", position="lower_left", font_size=9, name="status")
+        renderer = self._image_renderer
+        panel_w, panel_h = self._panel_px(renderer)
+        s = self._scale
+        title = f"{IMAGE_TITLE}: click a pixel to see its light paths"
+        self._text(renderer, "title", wrap(title, panel_w - 20, font_px("title", s)), x=0.012, y=0.988)
+        self._status_lines(renderer)
+        # the image's frame: room for the title above, the angle scale left and below, the status lines
+        top = 2.6 * line_px("title", s) + 10
+        bottom = line_px("help", s) + 2 * line_px("status", s) + 2.4 * line_px("ticks", s) + 16
+        left = 4.0 * font_px("ticks", s) + 12
+        right = 0.03 * panel_w
+        per_px = max(width / max(1.0, panel_w - left - right), height / max(1.0, panel_h - top - bottom))
+        cx = width / 2.0 - ((left + (panel_w - left - right) / 2.0) - panel_w / 2.0) * per_px
+        cy = height / 2.0 - ((bottom + (panel_h - top - bottom) / 2.0) - panel_h / 2.0) * per_px
         p.view_xy()
         p.enable_parallel_projection()
-        p.reset_camera()
-        p.renderer.camera.zoom(1.05)
+        cam = renderer.GetActiveCamera()
+        cam.SetFocalPoint(cx, cy, 0.0)
+        cam.SetPosition(cx, cy, 10.0 * max(width, height))
+        cam.SetViewUp(0.0, 1.0, 0.0)
+        cam.SetParallelScale(0.5 * panel_h * per_px)
+        renderer.ResetCameraClippingRange()
+        self._draw_image_marks(per_px)
+
+    def _draw_image_marks(self, per_px: float) -> None:
+        """The angle scale along the image's lower and left edges, the exact edge of the shadow (or the
+        window) and the chosen pixels' labels."""
+        import pyvista as pv
+
+        renderer = self._image_renderer
+        height, width = self.image.shape[:2]
+        s = self._scale
+        tick = 0.6 * font_px("ticks", s) * per_px  # tick length in image units
+        if self.camera is not None:
+            ticks = angle_ticks(self.camera, width, height)
+            lines = [[(x, 0.0, 0.02), (x, -tick, 0.02)] for x, _ in ticks["x"]]
+            lines += [[(0.0, height - y, 0.02), (-tick, height - y, 0.02)] for y, _ in ticks["y"]]
+            if lines:
+                segments = np.asarray(lines, dtype=np.float64).reshape(-1, 3)
+                self._replace(renderer, "angle_ticks", pv.line_segments_from_points(segments), color="#303030",
+                              line_width=2)  # fmt: skip
+            for x, label in ticks["x"]:
+                self._text(renderer, "ticks", label, x=x, y=-1.3 * tick, halign="centered", world=True)
+            for y, label in ticks["y"]:
+                self._text(renderer, "ticks", label, x=-1.4 * tick, y=height - y, halign="right", valign="centered",
+                           world=True)  # fmt: skip
+            self._text(renderer, "ticks", "angle from the centre of view", x=width / 2.0,
+                       y=-1.3 * tick - 1.25 * font_px("ticks", s) * per_px, halign="centered", world=True,
+                       color="#404040")  # fmt: skip
+            edge = edge_circle(self.metric, self.camera, width, height)
+            if edge is not None and len(edge[0]) > 1:
+                points, label = edge
+                inside = (points[:, 0] >= 0) & (points[:, 0] <= width) & (points[:, 1] >= 0) & (points[:, 1] <= height)
+                if inside.any():
+                    xyz = np.column_stack([points[:, 0], height - points[:, 1], np.full(len(points), 0.025)])
+                    self._replace(renderer, "edge_circle", pv.lines_from_points(xyz), color="white", line_width=2)
+                    top = xyz[inside][np.argmax(xyz[inside, 1])]
+                    self.image_edge_label = label
+                    self._text(renderer, "label", label, x=top[0], y=top[1] + 0.4 * tick, halign="centered",
+                               valign="bottom", world=True, background="white")  # fmt: skip
+        self._place_pixel_labels(per_px)
+
+    def _place_pixel_labels(self, per_px: float) -> None:
+        """Label the chosen pixels with what they show: each label beside its pixel, on the first side
+        (right, left, above, below) where it overlaps no label placed before and stays in the panel."""
+        renderer = self._image_renderer
+        height, _ = self.image.shape[:2]
+        vx0, _, vx1, _ = renderer.GetViewport()
+        panel_x = (vx0 * self.plotter.window_size[0], vx1 * self.plotter.window_size[0])
+        taken = [text_box(actor, renderer) for role in ("label", "ticks") for _, actor in self._text_actors.get(role, [])]
+        lift = 1.1 * line_px("label", self._scale) * per_px
+        for (x, y), text in self.pixel_labels.items():
+            cx, cy = x + 0.5, height - 1 - y + 0.5
+            actor = self._text(renderer, "label", text, x=cx, y=cy, world=True, background="white", valign="centered")
+            x0, x1, y0, y1 = text_box(actor, renderer)
+            w, h = x1 - x0, y1 - y0
+            best = None
+            for dx, dy, halign in [(0.9, 0, "left"), (-0.9, 0, "right"), (0, lift, "centered"), (0, -lift, "centered"),
+                                   (0.9, lift, "left"), (-0.9, lift, "right"), (0.9, -lift, "left"),
+                                   (-0.9, -lift, "right"), (0, 2 * lift, "centered"), (0, -2 * lift, "centered")]:
+                renderer.SetWorldPoint(cx + dx, cy + dy, 0.0, 1.0)
+                renderer.WorldToDisplay()
+                ax, ay, _ = renderer.GetDisplayPoint()
+                left = {"left": ax, "centered": ax - w / 2, "right": ax - w}[halign]
+                box = (left, left + w, ay - h / 2, ay + h / 2)
+                clash = sum(overlapping([("new", box), ("old", old)]) != [] for old in taken)
+                clash += box[0] < panel_x[0] or box[1] > panel_x[1]
+                if best is None or clash < best[0]:
+                    best = (clash, cx + dx, cy + dy, halign, box)
+                if clash == 0:
+                    break
+            _, sx, sy, halign, box = best
+            actor.GetPositionCoordinate().SetValue(sx, sy, 0.0)
+            actor.GetTextProperty().SetJustification({"left": 0, "centered": 1, "right": 2}[halign])
+            taken.append(box)
 
     def _unrotate_image(self) -> None:
         """Undo any rotation of the image panel's camera (a drag there), keeping its pan and zoom."""
@@ -328,6 +454,9 @@ class TeachingView:
             shown = self.rays.copy()
             if self._embedding and "sheet" in shown.point_data:
                 shown.points = ellis_embedding_points(self.metric, shown.points, shown.point_data["sheet"])
+                rims = [float(np.max(np.hypot(*np.asarray(m.points)[:, :2].T))) for m in focus if m.n_points]
+                if rims:  # rays leaving for infinity end a little beyond the diagram's rim
+                    shown = _cut_lines_at(shown, 1.15 * max(rims))
             array = coloring_array(self.color_by, shown.point_data.keys())
             if array not in shown.point_data:
                 raise ValueError(f"color_by={self.color_by!r} is not a colouring ({', '.join(COLORINGS)}) or a point "
@@ -338,21 +467,35 @@ class TeachingView:
             drawn.append("rays")
         self.labels_3d = [(text, np.asarray(point, dtype=np.float64)) for text, point in zip(label_texts, label_points)]
         if label_points:
-            p.add_point_labels(np.asarray(label_points, dtype=np.float64), label_texts, font_size=11, point_size=6,
-                               point_color="white", shape_opacity=0.55, always_visible=True, pickable=False,
+            p.add_point_labels(np.asarray(label_points, dtype=np.float64), label_texts,
+                               font_size=font_px("label", self._scale), point_size=6, point_color="white",
+                               shape_opacity=0.55, always_visible=True, pickable=False,
                                name="landmark_labels")  # fmt: skip
-        p.add_text(view_title(self.title, self.metric) + "\n" + _KEYS_HELP, position="upper_left", font_size=9,
-                   name="scene_title")  # fmt: skip
+        renderer = self._scene_renderer
+        panel_w, panel_h = self._panel_px(renderer)
+        self.title_text = wrap(view_title(self.title, self.metric), panel_w - 20, font_px("title", self._scale))
+        self._text(renderer, "title", self.title_text, x=0.012, y=0.988)
+        if self._image_renderer is None:  # one panel: the status lines go under the title
+            lines = self.title_text.count("\n") + 1
+            top = 0.988 - (lines * line_px("title", self._scale) + 4) / panel_h
+            self._text(renderer, "help", _KEYS_HELP, x=0.012, y=top, color="#404040")
+            self._status_actor = self._text(renderer, "status", "", x=0.012,
+                                            y=top - line_px("help", self._scale) / panel_h)  # fmt: skip
 
         self._focus = _focus_bounds(focus)
+        points = [np.asarray(m.points, dtype=np.float64) for m in focus if m.n_points]
+        self._fit_points = np.concatenate(points)[:: max(1, sum(map(len, points)) // 4000)] if points else None
         if shown is not None and self.camera is None:  # traced rays: the landmarks and where the rays start
             self._focus = _around(self._focus, starts) if self._focus is not None else _focus_bounds([shown])
         if self._focus is not None:
             unit = length_unit(self.metric)
             titles = [f"{axis} ({unit})" for axis in "xyz"]
-            p.show_bounds(bounds=list(self._focus), xtitle=titles[0], ytitle=titles[1], ztitle=titles[2],
-                          location="outer", ticks="outside", font_size=8, fmt="%.0f", grid=False,
-                          use_3d_text=False)  # fmt: skip
+            bounds, counts = round_axes(self._focus)
+            step = min((b - a) / max(1, n - 1) for a, b, n in zip(bounds[0::2], bounds[1::2], counts))
+            digits = max(0, -math.floor(math.log10(step) + 1e-9)) if step > 0 else 0
+            p.show_bounds(bounds=bounds, xtitle=titles[0], ytitle=titles[1], ztitle=titles[2], location="outer",
+                          ticks="outside", font_size=font_px("axes", self._scale), fmt=f"%.{digits}f", grid=False,
+                          use_3d_text=False, n_xlabels=counts[0], n_ylabels=counts[1], n_zlabels=counts[2])
         self._set_3d_camera()
         return shown
 
@@ -367,15 +510,17 @@ class TeachingView:
         values = np.asarray(mesh.point_data[array], dtype=np.float64) if mesh.n_points else np.zeros(0)
         finite = values[np.isfinite(values)]
         lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
-        if array in ("log10_error", "log10_error_scaled"):
+        drift = array in ("log10_error", "log10_error_scaled")
+        if drift:
             lo, hi = max(lo, _LOG10_FLOOR), max(hi, _LOG10_FLOOR)
-        if hi <= lo:
-            lo, hi = lo - 0.5, lo + 0.5
+        lo, hi, n_labels = bar_range(lo, hi, include=[math.log10(GOOD_DRIFT)] if drift else [])
         shown_as = array if self.color_by in COLORINGS else self.color_by  # old rays: their log10_error
         title = coloring_title(shown_as, self.metric, fallback=SCALAR_TITLES)
         p.subplot(0, self._scene_col)  # the colour bar goes into the 3-D panel
         if self._bar_title is not None and self._bar_title in p.scalar_bars:
             p.remove_scalar_bar(self._bar_title, render=False)
+        for renderer, actor in self._text_actors.pop("caption", []):
+            renderer.RemoveActor(actor)
         if self._rays_actor is not None:
             self._scene_renderer.remove_actor(self._rays_actor, reset_camera=False, render=False)
             self._rays_actor = None
@@ -388,14 +533,25 @@ class TeachingView:
 
         middle = float(np.median(finite)) if finite.size else lo
         self._rays_color = to_hex(colormaps[_RAYS_CMAP](min(1.0, max(0.0, (middle - lo) / (hi - lo)))))
+        x, y, width, height = BAR_BOX
+        step = (hi - lo) / max(1, n_labels - 1)
+        digits = max(0, -math.floor(math.log10(step) + 1e-9)) if step > 0 else 0
         self._rays_actor = p.add_mesh(
             mesh, scalars=array, cmap=_RAYS_CMAP, clim=(lo, hi), line_width=2, lighting=False, name="rays",
             reset_camera=False,
-            scalar_bar_args={"title": title, "vertical": False,
-                             "position_x": 0.15, "position_y": 0.03, "width": 0.7, "height": 0.06,
-                             "title_font_size": 11, "label_font_size": 10, "n_labels": 4, "fmt": "%.3g"},
+            scalar_bar_args={"title": title, "vertical": False, "position_x": x, "position_y": y, "width": width,
+                             "height": height, "label_font_size": font_px("bar", self._scale), "n_labels": n_labels,
+                             "fmt": f"%.{digits}f", "unconstrained_font_size": True},
         )  # fmt: skip
         self._bar_title = title
+        bar = p.scalar_bars[title]
+        bar.GetTitleTextProperty().SetOpacity(0.0)  # the caption below says it, where its box is known
+        bar.SetTextPositionToSucceedScalarBar()  # tick values under the bar
+        panel_w, panel_h = self._panel_px(self._scene_renderer)
+        caption = wrap(title, panel_w - 24, font_px("caption", self._scale))
+        self._caption_lines = caption.count("\n") + 1
+        self._text(self._scene_renderer, "caption", caption, x=0.5, y=y + height + 4.0 / panel_h,
+                   halign="centered", valign="bottom")  # fmt: skip
 
     def cycle_coloring(self, color_by: str | None = None) -> str:
         """Colour the rays by the next colouring of :data:`~warpviz.viewer.annotations.COLORINGS` (key
@@ -472,6 +628,73 @@ class TeachingView:
         cam.position = (centre + distance * offset).tolist()
         cam.up = view_up.tolist()
         r.ResetCameraClippingRange()
+        self._fit_in_band()
+
+    def fit_points(self) -> np.ndarray:
+        """The points the 3-D camera frames, shape (K, 3): the drawn landmarks, objects and camera (a
+        subsample) and the corners of the axes' box."""
+        axes = self._scene_renderer.cube_axes_actor
+        corners = []
+        if axes is not None:
+            b = axes.GetBounds()
+            corners = [(x, y, z) for x in b[0:2] for y in b[2:4] for z in b[4:6]]
+        pieces = [np.asarray(corners, dtype=np.float64).reshape(-1, 3)]
+        if self._fit_points is not None:
+            pieces.append(self._fit_points)
+        return np.concatenate(pieces)
+
+    def _fit_in_band(self) -> None:
+        """Move the 3-D camera along its view and shift the picture so what :meth:`fit_points` names fills
+        the band between the top texts and the colour bar, with room for the axes' labels."""
+        r = self._scene_renderer
+        cam = r.camera
+        panel_w, panel_h = self._panel_px(r)
+        top, bottom = self._bands_px()
+        pad = 2.5 * line_px("axes", self._scale)  # the axes' labels and titles outside the box
+        avail_w, avail_h = max(1.0, panel_w - 2 * pad), max(1.0, panel_h - top - bottom - 2 * pad)
+        corners = self.fit_points()
+        x0, y0 = r.GetViewport()[0] * self.plotter.window_size[0], r.GetViewport()[1] * self.plotter.window_size[1]
+        def extent():
+            shown = []
+            for corner in corners:
+                r.SetWorldPoint(*corner, 1.0)
+                r.WorldToDisplay()
+                dx, dy, _ = r.GetDisplayPoint()
+                shown.append((dx - x0, dy - y0))
+            shown = np.asarray(shown)
+            return shown.min(axis=0), shown.max(axis=0)
+
+        for _ in range(3):
+            lo, hi = extent()
+            factor = max((hi[0] - lo[0]) / avail_w, (hi[1] - lo[1]) / avail_h, 1e-3)
+            focal = np.asarray(cam.focal_point)
+            cam.position = (focal + factor * (np.asarray(cam.position) - focal)).tolist()
+            lo, hi = extent()  # then the box's centre onto the band's (WindowCenter moves it by -size/2 per unit)
+            want = np.array([panel_w / 2.0, bottom + pad + avail_h / 2.0])
+            shift = ((lo + hi) / 2.0 - want) / (np.array([panel_w, panel_h]) / 2.0)
+            wx, wy = cam.GetWindowCenter()
+            cam.SetWindowCenter(wx + shift[0], wy + shift[1])
+        r.ResetCameraClippingRange()
+
+    def _top_lines_px(self) -> float:
+        """Height (pixels) of the 3-D panel's title, and of the status lines where they sit under it."""
+        height = (self.title_text.count("\n") + 1) * line_px("title", self._scale) + 6
+        if self._image_renderer is None:
+            height += 2 * line_px("status", self._scale) + line_px("help", self._scale)
+        return height
+
+    def _bands_px(self) -> tuple[float, float]:
+        """Heights (pixels) of the 3-D panel's top band (title, status, legend) and bottom band (the colour
+        bar and its caption), which the scene is framed between."""
+        renderer = self._scene_renderer
+        panel_w, panel_h = self._panel_px(renderer)
+        possible = self.drawn_items() + ["highlight", "picked"] + (["flat_rays"] if self.camera is not None else [])
+        rows = len(legend_rows(legend_entries(possible, self.metric), self._scale, panel_w - 16))
+        top = self._top_lines_px() + rows * 1.3 * font_px("legend", self._scale) + 8
+        bottom = 8.0
+        if self._rays_actor is not None:
+            bottom += (BAR_BOX[1] + BAR_BOX[3]) * panel_h + self._caption_lines * line_px("caption", self._scale)
+        return top, bottom
 
     def _planar_rays(self) -> bool:
         """Whether all rays lie in a plane z = const."""
@@ -664,7 +887,9 @@ class TeachingView:
             self._replace(self._image_renderer, "selected_pixels",
                           _pixel_outlines(np.array(inside).reshape(-1, 2), height, pad=pad, z=0.02) if inside else None,
                           color=_SELECTED_COLOR, line_width=3, lighting=False, pickable=False)  # fmt: skip
-        self._status_actor.SetText(0, self.status())  # corner 0: lower left
+        status_panel = self._image_renderer if self._image_renderer is not None else self._scene_renderer
+        width = self._panel_px(status_panel)[0] - 20
+        self._status_actor.SetInput("\n".join(wrap(self.status(), width, font_px("status", self._scale)).split("\n")[:2]))
 
         ids = self.selected_rays()
         pixel_ids = ids if self.picked_ray is None else ids[ids != self.picked_ray]
@@ -714,11 +939,13 @@ class TeachingView:
             return
         self.legend = entries
         renderer = self._scene_renderer
-        if renderer.legend is not None:
-            renderer.remove_legend(render=False)
+        for _, actor in self._text_actors.pop("legend", []):
+            renderer.RemoveActor(actor)
         if entries:
-            renderer.add_legend(labels=[list(item) for item in entries], bcolor=None, face=None, loc="upper right",
-                                size=(0.3, 0.045 * len(entries) + 0.02))  # fmt: skip
+            panel_px = self._panel_px(renderer)
+            top = 0.988 - self._top_lines_px() / panel_px[1]
+            self._text_actors["legend"] = [(renderer, a) for a in draw_legend(renderer, entries, scale=self._scale,
+                                                                               panel_px=panel_px, top=top)]
 
     def _replace(self, renderer, name: str, mesh, **style) -> None:
         """Put ``mesh`` into ``renderer`` under ``name``, replacing what was there (None removes it)."""

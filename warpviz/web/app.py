@@ -293,7 +293,9 @@ class TeachingApp:
                             html.Div("{{ hint }}", id="warpviz-hint", classes="text-caption",
                                      style=f"max-width: {IMAGE_WIDTH}px")  # fmt: skip
                             for s in self.sliders:
-                                with html.Div(id=f"warpviz-slider-{s['name']}", style=f"max-width: {IMAGE_WIDTH}px"):
+                                # room above each slider for its value, which floats above the thumb
+                                with html.Div(id=f"warpviz-slider-{s['name']}", classes="warpviz-slider",
+                                              style=f"max-width: {IMAGE_WIDTH}px; padding-top: 30px"):  # fmt: skip
                                     vuetify3.VSlider(
                                         v_model=(f"slider_{s['name']}",), label=s["label"], min=s["min"],
                                         max=s["max"], step=s["step"], thumb_label="always", hide_details=True,

@@ -1,0 +1,170 @@
+"""Where the teaching view's text goes and how big it is: one place for every font size and band.
+
+The text is sized from the window, so a view projected in a classroom is read from the back row: at the
+reference window of 1400×700 pixels (two 700×700 panels) the title is 20 px high and the labels 22 px,
+twice what they were, and they grow and shrink with the panel (:func:`text_scale`). Every flat text is
+a ``vtkTextActor`` placed by this module, so :func:`text_box` can say where it landed on screen and the
+tests can check that no two overlap.
+
+Each panel keeps three horizontal bands: the title at the top, the content (the image, or the 3-D scene)
+in the middle, and the colour bar (:data:`BAR_BOX`) or the status lines at the bottom. The 3-D camera and
+the image's zoom frame the content inside the middle band.
+"""
+
+from __future__ import annotations
+
+import textwrap
+from collections.abc import Iterable, Sequence
+
+__all__ = [
+    "BAR_BOX",
+    "FONT_PX",
+    "REFERENCE_PANEL",
+    "add_text",
+    "font_px",
+    "line_px",
+    "overlapping",
+    "text_box",
+    "text_scale",
+    "wrap",
+]
+
+#: Width and height (pixels) of the panel the sizes of :data:`FONT_PX` are for: half of a 1400×700 window.
+REFERENCE_PANEL = (700, 700)
+
+#: Text heights in pixels on a :data:`REFERENCE_PANEL` panel, by role.
+FONT_PX = {
+    "title": 20,  # the panel titles
+    "help": 16,  # the keys line
+    "status": 18,  # what is selected
+    "label": 22,  # labels at points: the landmarks, the camera, the chosen pixels
+    "legend": 18,  # the 3-D panel's legend
+    "axes": 16,  # the 3-D axes' tick labels and titles
+    "caption": 22,  # the colour bar's words
+    "bar": 20,  # the colour bar's tick values
+    "ticks": 16,  # the image's angle scale
+}
+
+#: The colour bar's box in the 3-D panel's normalised coordinates: (x, y, width, height); the caption
+#: sits above it.
+BAR_BOX = (0.12, 0.025, 0.76, 0.085)
+
+#: Average glyph width as a fraction of the font height (the sans-serif font VTK draws in), for wrapping.
+_GLYPH_WIDTH = 0.5
+
+
+def text_scale(window_size: Sequence[int], panels: int = 2) -> float:
+    """How much larger than on the reference panel text is drawn in a window.
+
+    Parameters
+    ----------
+    window_size : (int, int)
+        Window width and height in pixels.
+    panels : int
+        Panels side by side (2: image and 3-D, 1: 3-D only).
+
+    Returns
+    -------
+    float
+        The smaller of the panel's width and height ratios to :data:`REFERENCE_PANEL`, at least 0.5
+        (a thumbnail window keeps readable text).
+    """
+    width, height = (int(v) for v in window_size)
+    panel_width = width / max(1, int(panels))
+    return max(0.5, min(panel_width / REFERENCE_PANEL[0], height / REFERENCE_PANEL[1]))
+
+
+def font_px(role: str, scale: float) -> int:
+    """The text height (pixels) of ``role`` (a key of :data:`FONT_PX`) at ``scale``."""
+    return max(8, round(FONT_PX[role] * scale))
+
+
+def wrap(text: str, width_px: float, size_px: int) -> str:
+    """Break ``text`` into lines no wider than ``width_px`` at ``size_px`` (existing line breaks kept)."""
+    chars = max(12, int(width_px / (_GLYPH_WIDTH * size_px)))
+    return "\n".join("\n".join(textwrap.wrap(line, chars) or [""]) for line in text.split("\n"))
+
+
+def line_px(role: str, scale: float) -> float:
+    """Height in pixels of one line of ``role`` text at ``scale`` (the font and its line gap)."""
+    return 1.25 * font_px(role, scale)
+
+
+def add_text(renderer, text: str, *, x: float, y: float, size: int, color="black", halign: str = "left",
+             valign: str = "top", bold: bool = False, background: str | None = None, world: bool = False):  # fmt: skip
+    """Put a flat text into ``renderer`` and return its ``vtkTextActor``.
+
+    Parameters
+    ----------
+    renderer : pyvista.Renderer
+    text : str
+    x, y : float
+        The anchor: in the renderer's normalised viewport coordinates (0..1), or in world coordinates
+        (z = 0) with ``world=True`` (a label that moves with the picture).
+    size : int
+        Text height in pixels.
+    color : color-like
+    halign, valign : str
+        Which side of the text the anchor is on: ``left``/``centered``/``right``, ``top``/``centered``/
+        ``bottom``.
+    bold : bool
+    background : color-like or None
+        A box behind the text (0.7 opaque), for text drawn over a picture.
+    world : bool
+
+    Returns
+    -------
+    vtkTextActor
+    """
+    import pyvista as pv
+    from vtkmodules.vtkRenderingCore import vtkTextActor
+
+    actor = vtkTextActor()
+    actor.SetInput(text)
+    coord = actor.GetPositionCoordinate()
+    if world:
+        coord.SetCoordinateSystemToWorld()
+        coord.SetValue(float(x), float(y), 0.0)
+    else:
+        coord.SetCoordinateSystemToNormalizedViewport()
+        coord.SetValue(float(x), float(y))
+    prop = actor.GetTextProperty()
+    prop.SetFontSize(int(size))
+    prop.SetColor(pv.Color(color).float_rgb)
+    prop.SetBold(bool(bold))
+    prop.SetJustification({"left": 0, "centered": 1, "right": 2}[halign])
+    prop.SetVerticalJustification({"bottom": 0, "centered": 1, "top": 2}[valign])
+    if background is not None:
+        prop.SetBackgroundColor(pv.Color(background).float_rgb)
+        prop.SetBackgroundOpacity(0.7)
+        prop.SetFrame(False)
+    actor.SetPickable(False)
+    renderer.AddActor(actor)
+    return actor
+
+
+def text_box(actor, renderer) -> tuple[float, float, float, float]:
+    """Where a text actor is drawn: (x0, x1, y0, y1) in window pixels from the lower-left corner.
+
+    Parameters
+    ----------
+    actor : vtkTextActor
+    renderer : vtkRenderer
+        The renderer that draws it (its viewport places the text).
+    """
+    box = [0.0] * 4
+    actor.GetBoundingBox(renderer, box)  # relative to the anchor
+    ax, ay = actor.GetPositionCoordinate().GetComputedDisplayValue(renderer)
+    return ax + box[0], ax + box[1], ay + box[2], ay + box[3]
+
+
+def overlapping(boxes: Iterable[tuple[str, tuple[float, float, float, float]]],
+                margin: float = 1.0) -> list[tuple[str, str]]:  # fmt: skip
+    """Pairs of named boxes (x0, x1, y0, y1) that overlap by more than ``margin`` pixels each way."""
+    items = [(name, box) for name, box in boxes if box[1] > box[0] and box[3] > box[2]]
+    out = []
+    for i, (a, p) in enumerate(items):
+        for b, q in items[i + 1 :]:
+            if min(p[1], q[1]) - max(p[0], q[0]) > margin and min(p[3], q[3]) - max(p[2], q[2]) > margin:
+                out.append((a, b))
+    return out
