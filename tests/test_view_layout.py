@@ -131,7 +131,13 @@ def test_the_drawn_axes_and_colour_bar_show_round_values():
         lo, hi = bar.GetLookupTable().GetRange()
         ticks = np.linspace(lo, hi, bar.GetNumberOfLabels())
         assert np.allclose(ticks, np.round(ticks))  # the drift bar: whole powers of ten
-        assert lo <= -5.0 <= hi  # the good line is on it
+        assert lo <= -5.0 <= hi  # the good line is on it, marked where -5 is
+        from warpviz.viewer.layout import BAR_BOX
+
+        mark = plotter.teaching_view._good_mark.GetMapper().GetInput().GetPoints()
+        assert mark.GetPoint(0)[0] == pytest.approx(BAR_BOX[0] + BAR_BOX[2] * (-5.0 - lo) / (hi - lo))
+        plotter.teaching_view.cycle_coloring("r")  # no good line for the radius
+        assert plotter.teaching_view._good_mark is None
     finally:
         plotter.close()
 

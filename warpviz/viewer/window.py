@@ -167,6 +167,7 @@ class TeachingView:
         self._rays_color = LEGEND_STYLE["rays"][1]
         self._bar_title: str | None = None
         self._caption_lines = 0
+        self._good_mark = None  # the colour bar's mark of the good drift
         self._fit_points = None
         self.title_text = ""
         self._press: tuple[int, int] | None = None
@@ -521,6 +522,9 @@ class TeachingView:
             p.remove_scalar_bar(self._bar_title, render=False)
         for renderer, actor in self._text_actors.pop("caption", []):
             renderer.RemoveActor(actor)
+        if self._good_mark is not None:
+            self._scene_renderer.RemoveActor(self._good_mark)
+            self._good_mark = None
         if self._rays_actor is not None:
             self._scene_renderer.remove_actor(self._rays_actor, reset_camera=False, render=False)
             self._rays_actor = None
@@ -546,7 +550,10 @@ class TeachingView:
         self._bar_title = title
         bar = p.scalar_bars[title]
         bar.GetTitleTextProperty().SetOpacity(0.0)  # the caption below says it, where its box is known
-        bar.SetTextPositionToSucceedScalarBar()  # tick values under the bar
+        bar.SetTextPositionToSucceedScalarBar()  # tick values above the bar, under the caption
+        if drift:  # the good line on the bar: a mark at log10(GOOD_DRIFT)
+            at = x + width * (math.log10(GOOD_DRIFT) - lo) / (hi - lo)
+            self._good_mark = _bar_mark(self._scene_renderer, at, y, y + height)
         panel_w, panel_h = self._panel_px(self._scene_renderer)
         caption = wrap(title, panel_w - 24, font_px("caption", self._scale))
         self._caption_lines = caption.count("\n") + 1
@@ -1063,6 +1070,37 @@ class TeachingView:
 
     def _on_right(self, *_) -> None:
         self.pick(*self._event_position())
+
+
+def _bar_mark(renderer, x: float, y0: float, y1: float):
+    """A black vertical line from (x, y0) to (x, y1) in normalised viewport coordinates, over the colour
+    bar (an actor of ``renderer``, returned)."""
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+    from vtkmodules.vtkRenderingCore import vtkActor2D, vtkCoordinate, vtkPolyDataMapper2D
+
+    points = vtkPoints()
+    points.InsertNextPoint(x, y0, 0.0)
+    points.InsertNextPoint(x, y1, 0.0)
+    lines = vtkCellArray()
+    lines.InsertNextCell(2)
+    lines.InsertCellPoint(0)
+    lines.InsertCellPoint(1)
+    poly = vtkPolyData()
+    poly.SetPoints(points)
+    poly.SetLines(lines)
+    coordinate = vtkCoordinate()
+    coordinate.SetCoordinateSystemToNormalizedViewport()
+    mapper = vtkPolyDataMapper2D()
+    mapper.SetInputData(poly)
+    mapper.SetTransformCoordinate(coordinate)
+    actor = vtkActor2D()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(0.0, 0.0, 0.0)
+    actor.GetProperty().SetLineWidth(3.0)
+    actor.SetPickable(False)
+    renderer.AddActor(actor)
+    return actor
 
 
 def _line_actor(mesh, *, color, line_width: float, lighting: bool = False, pickable: bool = False):
