@@ -95,9 +95,9 @@ def main(argv=None) -> None:
     try:
         plotter.add_mesh(fans["Schwarzschild"].to_pyvista(), color="gray", opacity=0.6, line_width=1,
                          pickable=False, name="schwarzschild_fan")  # fmt: skip
-        plotter.camera.zoom(2.0)  # the view holds the whole fan; look closer at the hole
-        plotter.add_text("coloured: Kerr a = 0.9 (spin +z, counter-clockwise)   grey: Schwarzschild",
-                         position="lower_left", font_size=9)  # fmt: skip
+        view = plotter.teaching_view
+        view.set_title(f"Kerr a = {SPIN} (coloured, spin +z: counter-clockwise) and Schwarzschild (grey)")
+        view.frame([-20.0, 20.0, -20.0, 20.0, -1.0, 1.0])  # the view holds the whole fan; look closer at the hole
         wv.atomic_write(args.out / "kerr_fan.png", lambda tmp: plotter.screenshot(str(tmp)))
     finally:
         plotter.close()

@@ -68,7 +68,7 @@ def test_no_two_texts_overlap_and_the_scene_sits_between_title_and_bar(scene, si
         assert corners[:, 0].min() > width / 2 and corners[:, 0].max() < width
         # and it fills that band: the box spans most of its height or of the panel's width
         span = corners.max(axis=0) - corners.min(axis=0)
-        assert span[1] > 0.6 * (above - below) or span[0] > 0.6 * (width / 2)
+        assert span[1] > 0.5 * (above - below) or span[0] > 0.5 * (width / 2)
     finally:
         plotter.close()
 

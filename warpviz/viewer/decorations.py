@@ -158,7 +158,7 @@ def draw_legend(renderer, entries: Sequence[tuple[str, str]], *, scale: float, p
     x, row = margin, 0
     for label, color in entries:
         swatch = add_text(renderer, SWATCH, x=0.0, y=0.0, size=size, color=color, bold=True)
-        text = add_text(renderer, label, x=0.0, y=0.0, size=size, color="#202020")
+        text = add_text(renderer, label, x=0.0, y=0.0, size=size, color="#202020", background="white")
         w_swatch = text_box(swatch, renderer)[1] - text_box(swatch, renderer)[0]
         w_label = text_box(text, renderer)[1] - text_box(text, renderer)[0]
         if x > margin and x + w_swatch + 0.3 * size + w_label > width - margin:  # the next row

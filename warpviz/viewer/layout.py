@@ -50,7 +50,7 @@ FONT_PX = {
 BAR_BOX = (0.12, 0.025, 0.76, 0.085)
 
 #: Average glyph width as a fraction of the font height (the sans-serif font VTK draws in), for wrapping.
-_GLYPH_WIDTH = 0.5
+_GLYPH_WIDTH = 0.55
 
 
 def text_scale(window_size: Sequence[int], panels: int = 2) -> float:
@@ -80,9 +80,30 @@ def font_px(role: str, scale: float) -> int:
 
 
 def wrap(text: str, width_px: float, size_px: int) -> str:
-    """Break ``text`` into lines no wider than ``width_px`` at ``size_px`` (existing line breaks kept)."""
+    """Break ``text`` into lines no wider than ``width_px`` at ``size_px`` (existing line breaks kept),
+    balanced: as few lines as fit, as even as possible (no word left alone on a last line), never inside
+    ``"M = 2.5"``.
+
+    Examples
+    --------
+    >>> print(wrap("log10 of the error: -10 is ten correct digits; good below -5", 400, 16))
+    log10 of the error: -10 is ten
+    correct digits; good below -5
+    """
     chars = max(12, int(width_px / (_GLYPH_WIDTH * size_px)))
-    return "\n".join("\n".join(textwrap.wrap(line, chars) or [""]) for line in text.split("\n"))
+    glue = "\x1f"  # holds "a = b" together; not whitespace to textwrap
+
+    def balanced(line: str) -> list[str]:
+        line = line.replace(" = ", f"{glue}={glue}")
+        lines = textwrap.wrap(line, chars, break_on_hyphens=False) or [""]
+        for width in range(max(1, -(-len(line) // len(lines))), chars):
+            even = textwrap.wrap(line, width, break_on_hyphens=False)
+            if len(even) <= len(lines):
+                lines = even
+                break
+        return [piece.replace(glue, " ") for piece in lines]
+
+    return "\n".join("\n".join(balanced(line)) for line in text.split("\n"))
 
 
 def line_px(role: str, scale: float) -> float:

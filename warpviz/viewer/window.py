@@ -488,17 +488,55 @@ class TeachingView:
         self._fit_points = np.concatenate(points)[:: max(1, sum(map(len, points)) // 4000)] if points else None
         if shown is not None and self.camera is None:  # traced rays: the landmarks and where the rays start
             self._focus = _around(self._focus, starts) if self._focus is not None else _focus_bounds([shown])
-        if self._focus is not None:
-            unit = length_unit(self.metric)
-            titles = [f"{axis} ({unit})" for axis in "xyz"]
-            bounds, counts = round_axes(self._focus)
-            step = min((b - a) / max(1, n - 1) for a, b, n in zip(bounds[0::2], bounds[1::2], counts))
-            digits = max(0, -math.floor(math.log10(step) + 1e-9)) if step > 0 else 0
-            p.show_bounds(bounds=bounds, xtitle=titles[0], ytitle=titles[1], ztitle=titles[2], location="outer",
-                          ticks="outside", font_size=font_px("axes", self._scale), fmt=f"%.{digits}f", grid=False,
-                          use_3d_text=False, n_xlabels=counts[0], n_ylabels=counts[1], n_zlabels=counts[2])
+        self._draw_axes()
         self._set_3d_camera()
         return shown
+
+    def _draw_axes(self) -> None:
+        """The axes' box at the round values inside the focus box (:func:`round_axes`)."""
+        if self._focus is None:
+            return
+        p = self.plotter
+        p.subplot(0, self._scene_col)
+        unit = length_unit(self.metric)
+        titles = [f"{axis} ({unit})" for axis in "xyz"]
+        bounds, counts = round_axes(self._focus)
+        spans = [b - a for a, b in zip(bounds[0::2], bounds[1::2])]
+        step = min((span / max(1, n - 1) for span, n in zip(spans, counts) if span >= 0.1 * max(spans)),
+                   default=1.0)  # a thin axis (a fan in a plane) does not set the digits
+        digits = max(0, -math.floor(math.log10(step) + 1e-9)) if step > 0 else 0
+        p.show_bounds(bounds=bounds, xtitle=titles[0], ytitle=titles[1], ztitle=titles[2], location="outer",
+                      ticks="outside", font_size=font_px("axes", self._scale), fmt=f"%.{digits}f", grid=False,
+                      use_3d_text=False, n_xlabels=counts[0], n_ylabels=counts[1], n_zlabels=counts[2])
+
+    def frame(self, bounds) -> None:
+        """Look at a box in the 3-D panel: the axes at the round values inside it and the camera fitted
+        to it between the title and the colour bar (what is outside is still drawn).
+
+        Parameters
+        ----------
+        bounds : sequence of 6 float
+            (xmin, xmax, ymin, ymax, zmin, zmax) in scene units.
+        """
+        b = np.asarray(bounds, dtype=np.float64).reshape(6)
+        if not (np.isfinite(b).all() and (b[1::2] >= b[0::2]).all()):
+            raise ValueError(f"bounds must be finite (xmin, xmax, ymin, ymax, zmin, zmax), got {list(bounds)}")
+        self._focus = b
+        self._fit_points = np.array([(x, y, z) for x in b[0:2] for y in b[2:4] for z in b[4:6]])
+        self._draw_axes()
+        self._set_3d_camera()
+        self.plotter.render()
+
+    def set_title(self, text: str) -> None:
+        """Replace the 3-D panel's title (wrapped to the panel); the legend and the framing make room."""
+        panel_w, _ = self._panel_px(self._scene_renderer)
+        self.title_text = wrap(str(text), panel_w - 20, font_px("title", self._scale))
+        renderer, actor = self._text_actors["title"][-1]
+        actor.SetInput(self.title_text)
+        self.legend = []  # drawn again under the new title
+        self._update_legend()
+        self._set_3d_camera()
+        self.plotter.render()
 
     def _draw_rays(self) -> None:
         """(Re)draw the rays of the shown bounces, coloured by :attr:`color_by`, with their colour bar."""
@@ -558,7 +596,7 @@ class TeachingView:
         caption = wrap(title, panel_w - 24, font_px("caption", self._scale))
         self._caption_lines = caption.count("\n") + 1
         self._text(self._scene_renderer, "caption", caption, x=0.5, y=y + height + 4.0 / panel_h,
-                   halign="centered", valign="bottom")  # fmt: skip
+                   halign="centered", valign="bottom", background="white")  # fmt: skip
 
     def cycle_coloring(self, color_by: str | None = None) -> str:
         """Colour the rays by the next colouring of :data:`~warpviz.viewer.annotations.COLORINGS` (key
@@ -658,7 +696,7 @@ class TeachingView:
         panel_w, panel_h = self._panel_px(r)
         top, bottom = self._bands_px()
         pad = 2.5 * line_px("axes", self._scale)  # the axes' labels and titles outside the box
-        avail_w, avail_h = max(1.0, panel_w - 2 * pad), max(1.0, panel_h - top - bottom - 2 * pad)
+        avail_w, avail_h = max(1.0, panel_w - 2 * pad), max(1.0, panel_h - top - bottom - 2.5 * pad)
         corners = self.fit_points()
         x0, y0 = r.GetViewport()[0] * self.plotter.window_size[0], r.GetViewport()[1] * self.plotter.window_size[1]
         def extent():
@@ -677,7 +715,7 @@ class TeachingView:
             focal = np.asarray(cam.focal_point)
             cam.position = (focal + factor * (np.asarray(cam.position) - focal)).tolist()
             lo, hi = extent()  # then the box's centre onto the band's (WindowCenter moves it by -size/2 per unit)
-            want = np.array([panel_w / 2.0, bottom + pad + avail_h / 2.0])
+            want = np.array([panel_w / 2.0, bottom + 1.5 * pad + avail_h / 2.0])
             shift = ((lo + hi) / 2.0 - want) / (np.array([panel_w, panel_h]) / 2.0)
             wx, wy = cam.GetWindowCenter()
             cam.SetWindowCenter(wx + shift[0], wy + shift[1])
