@@ -248,7 +248,9 @@ def test_kerr_view_labels_its_ergosphere_and_titles_its_spin():
         # most (Kerr-Schild radius sqrt(r^2 + a^2) on the equator), at least the static limit's 2 M
         anchor = tv.labels_3d[0][1]
         assert 2.0 < np.linalg.norm(anchor) <= np.hypot(3.91, 0.9) + 0.05 and anchor[2] > 1.0
-        assert "landmark_labels-labels" in plotter.renderers[1].actors
+        drawn = [actor.GetInput().strip() for _, actor in tv._text_actors["label3d"]]
+        assert drawn == [" \n ".join(text.split("\n")).strip() for text in texts]
+        assert "landmark_points" in plotter.renderers[1].actors
     finally:
         plotter.close()
 

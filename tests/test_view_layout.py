@@ -16,7 +16,8 @@ from warpviz.viewer.layout import FONT_PX, font_px, overlapping, text_scale  # n
 from warpviz.viewer.meshes import _cut_lines_at  # noqa: E402
 
 #: Font heights (pixels) the view used at 1400x700 before text was sized from the window.
-OLD_FONT_PX = {"title": 9, "status": 9, "label": 11, "legend": 7, "axes": 8, "caption": 11, "bar": 10}
+#: (The caption was the scalar bar's title at font size 11, which VTK shrank to fit: about 10 px drawn.)
+OLD_FONT_PX = {"title": 9, "status": 9, "label": 10, "label3d": 11, "legend": 7, "axes": 8, "caption": 10, "bar": 10}
 
 
 def hole_scene(metric=None, width=48, height=32):

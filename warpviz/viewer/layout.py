@@ -24,6 +24,7 @@ __all__ = [
     "font_px",
     "line_px",
     "overlapping",
+    "place_beside",
     "text_box",
     "text_scale",
     "wrap",
@@ -37,10 +38,11 @@ FONT_PX = {
     "title": 20,  # the panel titles
     "help": 16,  # the keys line
     "status": 18,  # what is selected
-    "label": 22,  # labels at points: the landmarks, the camera, the chosen pixels
+    "label": 22,  # labels at the chosen pixels and the shadow's edge
+    "label3d": 22,  # labels at points in 3-D: the landmarks, the camera
     "legend": 18,  # the 3-D panel's legend
     "axes": 16,  # the 3-D axes' tick labels and titles
-    "caption": 22,  # the colour bar's words
+    "caption": 20,  # the colour bar's words (VTK drew them at about 10 px in the colour bar's own title)
     "bar": 20,  # the colour bar's tick values
     "ticks": 16,  # the image's angle scale
 }
@@ -121,7 +123,8 @@ def add_text(renderer, text: str, *, x: float, y: float, size: int, color="black
     text : str
     x, y : float
         The anchor: in the renderer's normalised viewport coordinates (0..1), or in world coordinates
-        (z = 0) with ``world=True`` (a label that moves with the picture).
+        (z = 0) with ``world=True`` (a label that moves with the picture); with ``world=True``, ``x``
+        may be a 3-D point (``y`` None).
     size : int
         Text height in pixels.
     color : color-like
@@ -143,9 +146,16 @@ def add_text(renderer, text: str, *, x: float, y: float, size: int, color="black
     actor = vtkTextActor()
     actor.SetInput(text)
     coord = actor.GetPositionCoordinate()
-    if world:
-        coord.SetCoordinateSystemToWorld()
-        coord.SetValue(float(x), float(y), 0.0)
+    if world:  # a pixel offset (0, 0 now: place_beside moves it) from a point of the world
+        from vtkmodules.vtkRenderingCore import vtkCoordinate
+
+        anchor = vtkCoordinate()
+        anchor.SetCoordinateSystemToWorld()
+        anchor.SetValue(*((float(v) for v in x) if y is None else (float(x), float(y), 0.0)))
+        coord.SetCoordinateSystemToDisplay()
+        coord.SetValue(0.0, 0.0)
+        coord.SetReferenceCoordinate(anchor)
+        actor._warpviz_anchor = anchor  # keep the reference alive with the actor
     else:
         coord.SetCoordinateSystemToNormalizedViewport()
         coord.SetValue(float(x), float(y))
@@ -162,6 +172,53 @@ def add_text(renderer, text: str, *, x: float, y: float, size: int, color="black
     actor.SetPickable(False)
     renderer.AddActor(actor)
     return actor
+
+
+def place_beside(actor, renderer, taken: list, x_range: tuple[float, float], gap: float = 6.0) -> tuple:
+    """Move a world-anchored text (from :func:`add_text` with ``world=True``) beside its point: the first
+    of right, left, above, below, the diagonals and two lines up or down where its box stays inside
+    ``x_range`` and overlaps none of ``taken`` (or the place with the fewest clashes).
+
+    Parameters
+    ----------
+    actor : vtkTextActor
+    renderer : vtkRenderer
+    taken : list of (x0, x1, y0, y1)
+        Boxes (window pixels) already placed; the chosen box is appended.
+    x_range : (float, float)
+        The panel's left and right edges in window pixels.
+    gap : float
+        Pixels between the point and the text.
+
+    Returns
+    -------
+    tuple of float
+        The chosen box.
+    """
+    prop = actor.GetTextProperty()
+    prop.SetJustification(0)
+    prop.SetVerticalJustification(1)
+    actor.GetPositionCoordinate().SetValue(0.0, 0.0)
+    x0, x1, y0, y1 = text_box(actor, renderer)
+    w, h = x1 - x0, y1 - y0
+    ax, ay = x0, (y0 + y1) / 2.0  # the point (left edge, middle of the box)
+    candidates = [(gap, 0.0, 0), (-gap, 0.0, 2), (0.0, h, 1), (0.0, -h, 1), (gap, h, 0), (-gap, h, 2),
+                  (gap, -h, 0), (-gap, -h, 2), (0.0, 2 * h, 1), (0.0, -2 * h, 1)]  # fmt: skip
+    best = None
+    for dx, dy, halign in candidates:
+        left = ax + dx - {0: 0.0, 1: w / 2, 2: w}[halign]
+        box = (left, left + w, ay + dy - h / 2, ay + dy + h / 2)
+        clash = sum(bool(overlapping([("new", box), ("old", old)])) for old in taken)
+        clash += 2 * ((box[0] < x_range[0] + 2) + (box[1] > x_range[1] - 2))
+        if best is None or clash < best[0]:
+            best = (clash, dx, dy, halign, box)
+        if clash == 0:
+            break
+    _, dx, dy, halign, box = best
+    prop.SetJustification(halign)
+    actor.GetPositionCoordinate().SetValue(dx, dy)
+    taken.append(box)
+    return box
 
 
 def text_box(actor, renderer) -> tuple[float, float, float, float]:

@@ -30,7 +30,7 @@ from warpviz.viewer.annotations import (
 )
 from warpviz.viewer.decorations import bar_range, draw_legend, legend_rows, round_axes
 from warpviz.viewer.image_marks import angle_ticks, edge_circle
-from warpviz.viewer.layout import BAR_BOX, add_text, font_px, line_px, overlapping, text_box, text_scale, wrap
+from warpviz.viewer.layout import BAR_BOX, add_text, font_px, line_px, place_beside, text_box, text_scale, wrap
 from warpviz.viewer.meshes import _around, _cut_lines_at, _first_points, _focus_bounds, _image_grid, _pixel_outlines, _surface_rgb
 from warpviz.viewer.picking import image_cell_to_pixel, pixel_for_ray, rays_for_pixel, recorded_pixels
 from warpviz.viewer.progressive import DEFAULT_MAX_SPP, DEFAULT_REFRESH_MS, BackgroundRefiner, ProgressivePreview
@@ -304,31 +304,10 @@ class TeachingView:
         vx0, _, vx1, _ = renderer.GetViewport()
         panel_x = (vx0 * self.plotter.window_size[0], vx1 * self.plotter.window_size[0])
         taken = [text_box(actor, renderer) for role in ("label", "ticks") for _, actor in self._text_actors.get(role, [])]
-        lift = 1.1 * line_px("label", self._scale) * per_px
         for (x, y), text in self.pixel_labels.items():
-            cx, cy = x + 0.5, height - 1 - y + 0.5
-            actor = self._text(renderer, "label", text, x=cx, y=cy, world=True, background="white", valign="centered")
-            x0, x1, y0, y1 = text_box(actor, renderer)
-            w, h = x1 - x0, y1 - y0
-            best = None
-            for dx, dy, halign in [(0.9, 0, "left"), (-0.9, 0, "right"), (0, lift, "centered"), (0, -lift, "centered"),
-                                   (0.9, lift, "left"), (-0.9, lift, "right"), (0.9, -lift, "left"),
-                                   (-0.9, -lift, "right"), (0, 2 * lift, "centered"), (0, -2 * lift, "centered")]:
-                renderer.SetWorldPoint(cx + dx, cy + dy, 0.0, 1.0)
-                renderer.WorldToDisplay()
-                ax, ay, _ = renderer.GetDisplayPoint()
-                left = {"left": ax, "centered": ax - w / 2, "right": ax - w}[halign]
-                box = (left, left + w, ay - h / 2, ay + h / 2)
-                clash = sum(overlapping([("new", box), ("old", old)]) != [] for old in taken)
-                clash += box[0] < panel_x[0] or box[1] > panel_x[1]
-                if best is None or clash < best[0]:
-                    best = (clash, cx + dx, cy + dy, halign, box)
-                if clash == 0:
-                    break
-            _, sx, sy, halign, box = best
-            actor.GetPositionCoordinate().SetValue(sx, sy, 0.0)
-            actor.GetTextProperty().SetJustification({"left": 0, "centered": 1, "right": 2}[halign])
-            taken.append(box)
+            actor = self._text(renderer, "label", text, x=x + 0.5, y=height - 1 - y + 0.5, world=True,
+                               background="white", valign="centered")  # fmt: skip
+            place_beside(actor, renderer, taken, panel_x, gap=0.6 * font_px("label", self._scale))
 
     def _unrotate_image(self) -> None:
         """Undo any rotation of the image panel's camera (a drag there), keeping its pan and zoom."""
@@ -467,11 +446,13 @@ class TeachingView:
             starts = None if self.camera is not None else _first_points(shown)
             drawn.append("rays")
         self.labels_3d = [(text, np.asarray(point, dtype=np.float64)) for text, point in zip(label_texts, label_points)]
-        if label_points:
-            p.add_point_labels(np.asarray(label_points, dtype=np.float64), label_texts,
-                               font_size=font_px("label", self._scale), point_size=6, point_color="white",
-                               shape_opacity=0.55, always_visible=True, pickable=False,
-                               name="landmark_labels")  # fmt: skip
+        if label_points:  # a dot at each anchor, the text beside it (on the side with room: _justify_labels)
+            p.add_mesh(pv.PolyData(np.asarray(label_points, dtype=np.float64)), color="white", point_size=7,
+                       render_points_as_spheres=True, pickable=False, name="landmark_points")  # fmt: skip
+            for text, point in self.labels_3d:
+                padded = "\n".join(f" {line} " for line in text.split("\n"))  # clear of the dot
+                self._text(self._scene_renderer, "label3d", padded, x=point, y=None, world=True, bold=True,
+                           background="#c8c8c8", valign="centered")  # fmt: skip
         renderer = self._scene_renderer
         panel_w, panel_h = self._panel_px(renderer)
         self.title_text = wrap(view_title(self.title, self.metric), panel_w - 20, font_px("title", self._scale))
@@ -674,6 +655,17 @@ class TeachingView:
         cam.up = view_up.tolist()
         r.ResetCameraClippingRange()
         self._fit_in_band()
+        self._justify_labels()
+
+    def _justify_labels(self) -> None:
+        """Each 3-D label beside its point where it stays inside the panel and clear of the labels placed
+        before it (:func:`~warpviz.viewer.layout.place_beside`)."""
+        r = self._scene_renderer
+        x0 = r.GetViewport()[0] * self.plotter.window_size[0]
+        panel_w, _ = self._panel_px(r)
+        taken: list = []
+        for _, actor in self._text_actors.get("label3d", []):
+            place_beside(actor, r, taken, (x0, x0 + panel_w))
 
     def fit_points(self) -> np.ndarray:
         """The points the 3-D camera frames, shape (K, 3): the drawn landmarks, objects and camera (a
