@@ -431,10 +431,12 @@ def test_recorded_pixels_in_a_crop_window_are_the_same_paths():
 # runs, so the signal arrives inside the render (not during the imports).
 
 
-def _render_until_signalled(tmp_path: Path, sig: int) -> tuple[subprocess.CompletedProcess, Path]:
-    out = tmp_path / "partial.exr"
-    cmd = [sys.executable, "-c", ANNOUNCING_CLI, "render", "fig07", "--size", "48x36", "--spp", "100000",
-           "--threads", "1", "-o", str(out)]  # fmt: skip
+def _render_until_signalled(tmp_path: Path, sig: int,
+                            command: str = "render") -> tuple[subprocess.CompletedProcess, Path]:  # fmt: skip
+    out = tmp_path / ("partial.exr" if command == "render" else "partial.vtp")
+    extra = ["-p", "24,18"] if command == "trace" else []
+    cmd = [sys.executable, "-c", ANNOUNCING_CLI, command, "fig07", "--size", "48x36", "--spp", "100000",
+           "--threads", "1", *extra, "-o", str(out)]  # fmt: skip
     # Ctrl-C's default action, as in a terminal: a test run started as a background job of a
     # non-interactive shell has SIGINT ignored, the child would inherit that, and Python then never
     # installs its KeyboardInterrupt handler (this test hung there, not in warpviz).
@@ -470,6 +472,14 @@ def test_a_signal_saves_the_partial_image_with_its_samples(tmp_path, sig, code, 
     assert 1 <= samples.min() and samples.max() < 100000  # every pixel has samples; the render stopped early
 
 
+def test_sigterm_during_trace_says_the_paths_are_partial(tmp_path):
+    result, out = _render_until_signalled(tmp_path, signal.SIGTERM, command="trace")
+    assert result.returncode == 143, result.stderr
+    assert "terminated: saved the partial paths and image" in result.stderr and str(out) in result.stderr
+    assert "wrote" not in result.stderr and "Traceback" not in result.stderr
+    assert wv.read_rays(out).n_cells > 0
+
+
 def test_a_stop_asked_for_during_a_passs_last_chunk_is_kept():
     """An image of one chunk (48 pixels): every poll during a pass comes after its last chunk started,
     so a stop asked for then must still end the render after that pass (it once ran to the end)."""
@@ -500,3 +510,144 @@ def test_bench_writes_only_into_the_folder_given(tmp_path, monkeypatch):
     assert invoke("bench", "skips", "--quick", "--out", chosen).exit_code == 0
     assert (chosen / "skips.csv").is_file() and sorted(p.name for p in work.iterdir()) == ["geodesics.csv"]
     assert {p.name: p.stat().st_mtime_ns for p in results.iterdir()} == before
+
+
+# ------------------------------------------------------------------------------------- round two (issue 38)
+LAMP = SCENE + """
+[materials.lamp]
+type = "emissive"
+color = [1, 1, 1]
+strength = {strength}
+
+[[objects]]
+shape = "sphere"
+center = [0, 0, 3]
+radius = 1
+material = "lamp"
+"""
+
+MESH = SCENE + """
+[materials.grey]
+type = "diffuse"
+color = [0.5, 0.5, 0.5]
+
+[[objects]]
+shape = "mesh"
+file = "{file}"
+material = "grey"
+"""
+
+TRIANGLE = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+
+
+@pytest.mark.parametrize("name", ["/proc/x.png", "{folder}/" + "a" * 300 + ".png"], ids=["unwritable", "too long"])
+def test_an_output_that_cannot_be_written_is_refused_before_rendering(tmp_path, monkeypatch, name):
+    monkeypatch.setattr(cli, "_renderer", lambda: pytest.fail("rendered although the output cannot be written"))
+    scene = tmp_path / "ok.toml"
+    scene.write_text(SCENE)
+    before = snapshot(tmp_path)
+    target = name.format(folder=tmp_path)
+    result = invoke("render", scene, "-o", target, "-q")
+    assert_refused(result, 2, "cannot write output")
+    assert ("file name too long" in result.output) == ("a" * 300 in target)
+    assert_refused(invoke("trace", scene, "-p", "1,1", "-o", target.replace(".png", ".vtp"), "-q"), 2, "cannot write")
+    assert snapshot(tmp_path) == before
+
+
+def test_a_file_name_near_the_limit_is_written(tmp_path):
+    """A 250-character name fits the file system; its staging folder's name must fit too (it once did not,
+    and the finished render was lost)."""
+    scene = tmp_path / "ok.toml"
+    scene.write_text(SCENE)
+    target = tmp_path / ("b" * 246 + ".png")
+    assert invoke("render", scene, "-o", target, "-q").exit_code == 0
+    assert target.is_file() and [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+
+
+def test_an_absurd_emission_strength_is_refused_and_infinite_radiance_is_a_failed_sample(tmp_path):
+    scene = tmp_path / "sun.toml"
+    scene.write_text(LAMP.format(strength="1e308"))
+    result = invoke("render", scene, "-o", tmp_path / "x.exr", "-q")
+    assert_refused(result, 2, "sun.toml:")
+    assert "materials.lamp.strength must be in [0, 1e+12]" in result.output
+    # whatever makes a sample's radiance overflow (here a texture of 1e29 at the highest strength: 1e41) fails
+    # that sample instead of writing an infinite pixel
+    native = wv.scene.load_scene(_write(tmp_path / "ok.toml", LAMP.format(strength="1e12"))).native()
+    lamp = next(i for i, m in enumerate(native["materials"]) if m["type"] == "emissive")
+    native["textures"].append({"type": "constant", "color": [1e29, 1e29, 1e29]})
+    native["materials"][lamp]["texture"] = len(native["textures"]) - 1
+    img = wv.render(native, width=16, height=12, spp=2, progress=None)
+    assert np.isfinite(img.rgb).all()
+    failed = img.aovs["errors"] > 0
+    assert 0 < failed.sum() < failed.size  # the pixels that see the lamp
+
+
+def _write(path: Path, text: str) -> Path:
+    path.write_text(text)
+    return path
+
+
+def test_mesh_files_that_are_folders_not_finite_or_too_large(tmp_path, monkeypatch):
+    (tmp_path / "box.obj").mkdir()
+    result = invoke("validate", _write(tmp_path / "a.toml", MESH.format(file="box.obj")))
+    assert_refused(result, 2, "a.toml:")
+    assert "'box.obj' is a folder, not a file" in result.output
+    (tmp_path / "nan.obj").write_text(TRIANGLE.replace("v 1 0 0", "v nan 0 0"))
+    result = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-c",
+                             "from warpviz.cli import main; main()", "validate", str(_write(tmp_path / "b.toml", MESH.format(file="nan.obj")))],
+                            capture_output=True, text=True)  # fmt: skip
+    assert result.returncode == 2 and "b.toml:" in result.stderr, result.stderr
+    assert "has 1 vertices whose coordinates are not finite" in result.stderr and "Warning" not in result.stderr
+    # a huge (sparse) file is refused by its size, before it is read
+    huge = tmp_path / "huge.obj"
+    with open(huge, "wb") as f:
+        f.truncate(300 * 2**20)
+    t0 = time.perf_counter()
+    result = invoke("validate", _write(tmp_path / "c.toml", MESH.format(file="huge.obj")))
+    assert_refused(result, 2, "is 300 MB, more than the 256 MB a mesh file may be (set WARPVIZ_MAX_MESH_MB")
+    assert time.perf_counter() - t0 < 5.0
+    # the limit is the environment's where it is set
+    (tmp_path / "tri.obj").write_text(TRIANGLE)
+    small = _write(tmp_path / "d.toml", MESH.format(file="tri.obj"))
+    assert invoke("validate", small).exit_code == 0
+    monkeypatch.setenv("WARPVIZ_MAX_MESH_MB", "0.00001")
+    assert_refused(invoke("validate", small), 2, "more than the 0 MB a mesh file may be")
+    monkeypatch.setenv("WARPVIZ_MAX_MESH_MB", "lots")
+    assert_refused(invoke("validate", small), 2, "WARPVIZ_MAX_MESH_MB='lots' must be a positive number of MB")
+
+
+def test_serve_on_a_port_in_use_is_refused_before_the_preview(tmp_path):
+    import socket
+
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        result = subprocess.run([sys.executable, "-c", "from warpviz.cli import main; main()", "serve", "fig09",
+                                 "--port", str(port), "--no-browser"],
+                                capture_output=True, text=True, timeout=60)  # fmt: skip
+    assert result.returncode == 2, result.stderr
+    assert f"port {port} on 127.0.0.1 is in use" in result.stderr and "rendering the preview" not in result.stderr
+
+
+def test_paper_without_a_paper_table_warpviz_scenes_on_a_file_and_a_dark_room(tmp_path, monkeypatch):
+    scene = _write(tmp_path / "ok.toml", SCENE)
+    before = snapshot(tmp_path)
+    assert_refused(invoke("render", scene, "--paper", "-o", tmp_path / "p.png", "-q"), 2, "has no [render.paper]")
+    assert_refused(invoke("trace", scene, "--paper", "-p", "1,1", "-o", tmp_path / "p.vtp", "-q"), 2, "--paper")
+    assert snapshot(tmp_path) == before
+    result = invoke("scenes", env={"WARPVIZ_SCENES": str(scene)})
+    assert result.exit_code == 0 and f"WARPVIZ_SCENES names {str(scene)!r}, which is a file" in result.output
+    dark = _write(tmp_path / "dark.toml", SCENE.replace("color = [0.5, 0.5, 0.5]", "color = [0, 0, 0]"))
+    result = invoke("render", dark, "-o", tmp_path / "dark.png", "-q")
+    assert result.exit_code == 0 and "warning: nothing in the scene 'dark.toml' gives off light" in result.output
+    assert "Traceback" not in result.output and "UserWarning" not in result.output
+    lit = invoke("render", _write(tmp_path / "lit.toml", LAMP.format(strength="3").replace(
+        "color = [0.5, 0.5, 0.5]", "color = [0, 0, 0]")), "-o", tmp_path / "lit.png", "-q")  # fmt: skip
+    assert lit.exit_code == 0 and "gives off light" not in lit.output
+
+
+def test_bench_with_an_unknown_suite_lists_the_suites():
+    result = invoke("bench", "nonsense")
+    assert_refused(result, 2, "no benchmark suite 'nonsense'; the suites are: geodesics, work-precision")
+    assert "time-to-clean" in result.output

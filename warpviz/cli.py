@@ -15,6 +15,7 @@ and 143 stopped by SIGTERM (``render`` and ``trace`` first save the partial imag
 from __future__ import annotations
 
 import contextlib
+import errno
 import importlib
 import importlib.metadata
 import importlib.util
@@ -23,6 +24,7 @@ import platform
 import re
 import signal
 import subprocess
+import warnings
 import sys
 import time
 import types
@@ -45,7 +47,7 @@ from rich.table import Table
 from rich.text import Text
 
 import warpviz
-from warpviz.io import written_by_warpviz
+from warpviz.io import check_writable, written_by_warpviz
 from warpviz.limits import (EXPOSURE_RANGE, MAX_EDGE_SAMPLES, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES,
                             duration_seconds, exposure_stops, noise_level)
 from warpviz.render.denoise import DenoiserMissing
@@ -94,9 +96,12 @@ def _fail(message: str, code: int = EXIT_ERROR):
 
 @contextlib.contextmanager
 def _guard():
-    """Turn exceptions into messages and exit codes (0/1/2/130); no tracebacks unless WARPVIZ_DEBUG=1."""
+    """Turn exceptions into messages and exit codes (0/1/2/130); no tracebacks unless WARPVIZ_DEBUG=1.
+    Warnings are printed as one ``warning:`` line each."""
     try:
-        yield
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            yield
     except (typer.Exit, typer.Abort, typer.BadParameter):
         raise
     except _Failure as exc:
@@ -116,6 +121,11 @@ def _guard():
 
 
 # ------------------------------------------------------------------------------------------- helpers
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one line on stderr, without the source line Python would print."""
+    err.print(Text("warning: ", style="bold yellow") + Text(str(message)), soft_wrap=True)
+
+
 _terminated = False  # SIGTERM arrived (it stops a render like Ctrl-C; the exit code says which it was)
 
 
@@ -210,6 +220,9 @@ def _output_path(path: Path, suffixes: tuple[str, ...], *, force: bool = False, 
     what = "the scene's [outputs] file" if scene is not None else "output"
     if path.suffix.lower() not in suffixes:
         _fail(f"{what} {str(path)!r} must end in {' or '.join(suffixes)}", EXIT_BAD_INPUT)
+    if len(os.fsencode(path.name)) > 255:  # before any look at the file system, which would fail on it
+        _fail(f"cannot write {what} {str(path)!r}: file name too long ({len(os.fsencode(path.name))} bytes; "
+              "255 bytes is the most file systems allow)", EXIT_BAD_INPUT)  # fmt: skip
     if scene is not None:
         where = [Path.cwd().resolve()] + ([scene.path.parent.resolve()] if scene.path is not None else [])
         full = (Path.cwd() / path).resolve()
@@ -223,6 +236,10 @@ def _output_path(path: Path, suffixes: tuple[str, ...], *, force: bool = False, 
               EXIT_BAD_INPUT)  # fmt: skip
     if path.exists() and not force and not written_by_warpviz(path):
         _fail(f"{str(path)!r} exists and was not written by warpviz; pass --force to replace it", EXIT_BAD_INPUT)
+    try:  # the temporary file the writer will use, created and removed now: not after an hour of rendering
+        check_writable(path)
+    except OSError as exc:
+        _fail(f"cannot write {what} {str(path)!r}: {exc.strerror or exc}", EXIT_BAD_INPUT)
     return path
 
 
@@ -490,6 +507,7 @@ def render(
             if output is None:
                 output = resume  # the image is continued in place
         sc = load_scene(scene)
+        _check_paper(sc, paper)
         look = _look(sc, exposure=exposure, tonemap=tonemap)
         chosen = output is None and sc.outputs.get("file") is not None
         target = output or Path(sc.outputs.get("file") or f"{sc.path.stem if sc.path else 'scene'}.png")
@@ -552,6 +570,7 @@ def trace(
     """Render a scene and save the sampled light paths of chosen pixels as a .vtp file."""
     with _guard(), _stoppable():
         sc = load_scene(scene)
+        _check_paper(sc, paper)
         look = _look(sc, exposure=exposure, tonemap=tonemap)
         record = _parse_pixels(pixels)
         width, height = size if size is not None else sc.size(paper=paper)
@@ -568,17 +587,18 @@ def trace(
         rays = getattr(img, "rays", None)
         if rays is None:
             _fail("the renderer returned no recorded rays")
-        save = getattr(rays, "save", None)
-        if not callable(save):
-            _fail("saving rays needs RayBundle.save, which this build of warpviz does not have yet")
-        save(target)
+        rays.save(target)
         if picture is not None:
             if picture.suffix.lower() == ".exr":
                 _keep_aovs(img, sc.outputs.get("aovs"))
             img.save(picture, **look)
-        err.print(f"wrote {target} ({len(record)} pixels)" + (f" and {picture}" if picture else ""))
+        written = f"{target} ({len(record)} pixels)" + (f" and {picture}" if picture else "")
         if not getattr(img, "completed", True):
+            h, w = np.shape(img.rgb)[:2]
+            err.print(Text(f"{_stop_word()}: saved the partial paths and image ({w}x{h}{_samples_summary(img)}, "
+                           f"{_error_summary(img)}) to {written}", style="yellow"))  # fmt: skip
             raise typer.Exit(_stop_code())
+        err.print(f"wrote {written}")
 
 
 @app.command()
@@ -694,6 +714,33 @@ def _quiet_vtk():
         vtkObject.SetGlobalWarningDisplay(previous)
 
 
+def _check_paper(sc: Scene, paper: bool) -> None:
+    """Exit 2 when --paper asks for the paper settings of a scene that has none."""
+    if paper and not sc.has_paper:
+        name = sc.path.name if sc.path is not None else "the scene"
+        _fail(f"--paper: {name} has no [render.paper] table (the size and samples of its paper figure); give "
+              "--size and --spp instead", EXIT_BAD_INPUT)  # fmt: skip
+
+
+def _check_port(host: str, port: int) -> None:
+    """Exit 2 unless a server can listen on (host, port) now (port 0: the system picks a free one)."""
+    import socket
+
+    try:
+        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+    except (OSError, UnicodeError) as exc:
+        _fail(f"--host {host!r}: not an address of this machine ({exc})", EXIT_BAD_INPUT)
+    family, kind, proto, _, address = infos[0]
+    with socket.socket(family, kind, proto) as probe:
+        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as the web server does
+        try:
+            probe.bind(address)
+        except OSError as exc:
+            why = "is in use" if exc.errno == errno.EADDRINUSE else f"cannot be used ({exc.strerror})"
+            _fail(f"port {port} on {host} {why}; choose another with --port, or --port 0 for a free one",
+                  EXIT_BAD_INPUT)  # fmt: skip
+
+
 @app.command()
 def serve(
     scene: str = typer.Argument(..., help="Scene (.toml or shipped name)."),
@@ -715,6 +762,7 @@ def serve(
         except ImportError as exc:
             _fail(str(exc), EXIT_BAD_INPUT)
         sc = load_scene(scene)  # a missing file or unknown name: a SceneError, exit 2
+        _check_port(host, port)  # before the preview is rendered
         err.print(f"rendering the preview of {sc.path.name if sc.path else scene} ...")
 
         def ready(url: str) -> None:
@@ -856,6 +904,8 @@ def bench(ctx: typer.Context) -> None:
     """
     with _guard():
         args = list(ctx.args)
+        if args and not args[0].startswith("-") and args[0] not in BENCH_SUITES:
+            _fail(f"no benchmark suite {args[0]!r}; the suites are: {', '.join(BENCH_SUITES)}", EXIT_BAD_INPUT)
         suite = args.pop(0) if args and args[0] in BENCH_SUITES else "geodesics"
         if not any(a == "--out" or a.startswith("--out=") for a in args) and not {"-h", "--help"} & set(args):
             args += ["--out", str(Path.cwd())]

@@ -23,6 +23,7 @@ hello
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import secrets
 import shutil
@@ -34,7 +35,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:  # pragma: no cover
     import pyvista as pv
 
-__all__ = ["atomic_write", "read_rays", "software", "write_png", "write_vtm", "write_vtp", "written_by_warpviz"]
+__all__ = ["atomic_write", "check_writable", "read_rays", "software", "write_png", "write_vtm", "write_vtp", "written_by_warpviz"]
 
 #: The PNG text key and EXR header attribute that name the program that wrote a file.
 SOFTWARE_KEY = "Software"
@@ -131,7 +132,8 @@ def _writable(path: Path) -> Path:
 def _staging(path: Path) -> Iterator[Path]:
     """A fresh hidden folder beside ``path`` (same file system, so renames out of it are atomic),
     removed with whatever is left in it when the block ends, also on error."""
-    stage = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent))
+    # a short name of its own: a file name near the system's 255-byte limit still fits inside it
+    stage = Path(tempfile.mkdtemp(prefix=f".{path.name[:32]}.", suffix=".tmp", dir=path.parent))
     try:
         yield stage
     finally:
@@ -144,6 +146,48 @@ def _fsync(path: Path) -> None:
         os.fsync(fd)
     finally:
         os.close(fd)
+
+
+def check_writable(path: str | os.PathLike) -> Path:
+    """Check, before the work that produces it, that :func:`atomic_write` will be able to write ``path``:
+    its staging folder and a file of ``path``'s name in it are created and removed again (``path``
+    itself is not touched).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    OSError
+        ``strerror`` says why in words: the name is longer than the file system allows, permission
+        denied, a read-only file system, ... (:class:`FileNotFoundError` / :class:`IsADirectoryError`
+        for a missing folder or a folder given as the file).
+    """
+    path = Path(path)
+    name = len(os.fsencode(path.name))
+    try:
+        most = os.pathconf(path.parent if path.parent.is_dir() else ".", "PC_NAME_MAX")
+    except (OSError, ValueError):
+        most = 255
+    if name > most:
+        raise OSError(errno.ENAMETOOLONG, f"file name too long ({name} bytes; the file system allows {most})")
+    path = _writable(path)
+    try:
+        with _staging(path) as stage:
+            (stage / path.name).touch()
+    except OSError as exc:
+        reason = {errno.ENAMETOOLONG: "file name too long", errno.EACCES: "permission denied",
+                  errno.EPERM: "permission denied", errno.EROFS: "the file system is read-only",
+                  errno.ENOSPC: "no space left on the device", errno.EDQUOT: "disk quota exceeded",
+                  errno.ENOENT: "its folder cannot hold new files"}.get(exc.errno, exc.strerror or str(exc))  # fmt: skip
+        raise OSError(exc.errno, reason) from None
+    return path
 
 
 def atomic_write(path: str | os.PathLike, writer: Callable[[Path], object]) -> Path:

@@ -21,7 +21,7 @@ import math
 import numbers
 import re
 
-__all__ = ["EXPOSURE_RANGE", "TONEMAP_NAMES", "MAX_EDGE_SAMPLES", "MAX_IMAGE_SIDE", "MAX_SPP", "MAX_SEED", "TOLERANCE_RANGES", "exposure_stops", "image_side",
+__all__ = ["EXPOSURE_RANGE", "TONEMAP_NAMES", "MAX_EDGE_SAMPLES", "MAX_IMAGE_SIDE", "MAX_SPP", "MAX_SEED", "MAX_STRENGTH", "MAX_MESH_MB", "MESH_LIMIT_VARIABLE", "mesh_limit_bytes", "TOLERANCE_RANGES", "exposure_stops", "image_side",
            "tolerance_problem", "tolerance_range", "MAX_TIME_LIMIT", "NOISE_RANGE", "duration_seconds", "noise_level"]
 
 #: Largest image width or height in pixels. Whether an image of a given size fits in memory is checked
@@ -33,6 +33,19 @@ MAX_SPP = 2**31 - 1
 
 #: Largest multiple of spp that the pixels on a directly seen light's edge get (``render(edge_samples=)``).
 MAX_EDGE_SAMPLES = 64
+
+#: Largest strength of an emitter (the factor on its colour): a sun seen from a lamp-lit room is about 1e5
+#: times the lamp; beyond 1e12 a scene is a typo (``1e308`` once gave infinite pixels). The core also counts
+#: any sample whose radiance passes 1e30 as failed, whatever made it so.
+MAX_STRENGTH = 1e12
+
+#: Largest mesh file read by default, in MB (2**20 bytes); the environment variable named by
+#: :data:`MESH_LIMIT_VARIABLE` raises it. The file's size is checked before it is read: a 512 MB sparse
+#: file once took 6 s and 1.1 GB of memory before it was found to hold no triangles.
+MAX_MESH_MB = 256
+
+#: The environment variable that overrides :data:`MAX_MESH_MB` (a number of MB).
+MESH_LIMIT_VARIABLE = "WARPVIZ_MAX_MESH_MB"
 
 #: Largest random seed of a render (the core reads it as a signed 64-bit integer).
 MAX_SEED = 2**63 - 1
@@ -203,3 +216,26 @@ def noise_level(name: str, value) -> float:
     if isinstance(value, bool) or not isinstance(value, numbers.Real) or not lo < float(value) < hi:
         raise ValueError(f"{name} must be a relative error in ({lo:g}, {hi:g}), e.g. 0.02 for 2 %, got {value!r}")
     return float(value)
+
+
+def mesh_limit_bytes() -> int:
+    """The largest mesh file that is read, in bytes: :data:`MAX_MESH_MB`, or the environment's
+    :data:`MESH_LIMIT_VARIABLE` where it is set to a positive number of MB.
+
+    Raises
+    ------
+    ValueError
+        The variable is set to something that is not a positive number.
+    """
+    import os
+
+    text = os.environ.get(MESH_LIMIT_VARIABLE)
+    if text is None or not text.strip():
+        return MAX_MESH_MB * 2**20
+    try:
+        mb = float(text)
+    except ValueError:
+        mb = float("nan")
+    if not (math.isfinite(mb) and mb > 0):
+        raise ValueError(f"{MESH_LIMIT_VARIABLE}={text!r} must be a positive number of MB")
+    return int(mb * 2**20)

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -35,16 +36,24 @@ struct SampleOut {
   std::vector<RecordedSegment> rec;  // recorded pixels: this sample's segments
 };
 
-// Adds one sample to its pixel.
+// Largest radiance one sample may carry (per channel): far above any scene's light (a sun seen from a
+// room is ~1e5 of its lamp), far below where the film's float32 image and its sums of squares overflow.
+constexpr double kMaxSampleRadiance = 1e30;
+
+// Adds one sample to its pixel. A sample whose radiance is not finite or beyond kMaxSampleRadiance (an
+// emitter of strength 1e308) is a failed sample that adds no light, not an infinite pixel.
 inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
-  for (int c = 0; c < 3; ++c) {
+  bool usable = true;
+  for (int c = 0; c < 3; ++c) usable = usable && std::isfinite(so.L[c]) && std::abs(so.L[c]) <= kMaxSampleRadiance;
+  for (int c = 0; c < 3 && usable; ++c) {
     film.rgb_sum[3 * pix + c] += so.L[c];
     film.rgb_sq_sum[3 * pix + c] += so.L[c] * so.L[c];
   }
   film.samples[pix] += 1;
+  if (!usable) film.errors[pix] += 1;
   if (!film.steps_sum.empty()) film.steps_sum[pix] += double(so.steps);
   if (!film.max_drift.empty()) film.max_drift[pix] = std::max(film.max_drift[pix], float(so.max_drift));
-  if (so.error) film.errors[pix] += 1;
+  if (so.error && usable) film.errors[pix] += 1;
   if (!film.albedo_sum.empty())
     for (int c = 0; c < 3; ++c) film.albedo_sum[3 * pix + c] += so.albedo[c];
   if (!film.albedo_normal_sum.empty())

@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 import os
 import time
+import warnings
 from collections.abc import Callable
 
 import numpy as np
@@ -39,11 +40,11 @@ from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
 from warpviz.render.passes import PassesDone, PassReport, run_passes
 from warpviz.render.resume import film_from_image, read_exr, resume_problem, resume_settings, scene_sha256
-from warpviz.scene.native import native_scene
+from warpviz.scene.native import native_scene, scene_emits
 from warpviz.spacetime import metric_from_params
 from warpviz.tracing import STEPPERS, RayBundle, default_max_drift, recorded_point_data
 
-__all__ = ["render", "DEFAULT_OPTIONS", "FILTER_RADII", "OPTIONAL_AOVS"]
+__all__ = ["render", "DarkSceneWarning", "DEFAULT_OPTIONS", "FILTER_RADII", "OPTIONAL_AOVS"]
 
 #: The AOVs a render computes only when asked (``aovs=``); ``errors`` and ``samples`` it always keeps.
 OPTIONAL_AOVS = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal")
@@ -282,6 +283,10 @@ def render(
         ``denoise=True`` without ``pyoidn`` installed (an ImportError naming the extra), before rendering.
     """
     native, options, source = _resolve(scene, flat=flat, width=width, height=height, paper=paper)
+    if not scene_emits(native) and record_pixels is None:  # (recorded paths are worth having in the dark)
+        warnings.warn(DarkSceneWarning(f"nothing in {_scene_words(source)} gives off light (no emitting object, a "
+                                       "black sky): the image will be black; add a lamp (an emissive material) or "
+                                       "a sky colour"), stacklevel=2)  # fmt: skip
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
                  "stepper": stepper, "tol": tol, "aim_lights": aim_lights,
                  "light_connection": light_connection, "lens_images": lens_images,
@@ -519,6 +524,14 @@ def _record_pixels(value, crop: tuple[int, int, int, int], size: tuple[int, int]
 def _metric(spec: dict):
     """The Metric of a native ``{"name", "params": [...]}`` entry."""
     return metric_from_params(spec["name"], spec.get("params", []))
+
+
+class DarkSceneWarning(UserWarning):
+    """A render of a scene in which nothing gives off light (:func:`warpviz.scene.native.scene_emits`)."""
+
+
+def _scene_words(source: str | None) -> str:
+    return f"the scene {os.path.basename(source)!r}" if source else "the scene"
 
 
 def _plain(d):

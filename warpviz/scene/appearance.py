@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from warpviz.limits import MAX_STRENGTH
 from warpviz.scene import textures
 from warpviz.scene.native import SCHEMA
 from warpviz.scene.reader import _describe, _Reader, key_name
@@ -158,7 +159,8 @@ def _emission(r: _Reader, m: dict, mp: tuple) -> list[float]:
     ep = mp + ("emission",)
     e = r.table(ep, m["emission"], ("color", "strength"), what="an emission table { color, strength }")
     color = r.color(e, ep, "color", EMISSION_DEFAULTS["color"])
-    strength = r.real(e, ep, "strength", EMISSION_DEFAULTS["strength"], lo=0.0, lo_open=False)
+    strength = r.real(e, ep, "strength", EMISSION_DEFAULTS["strength"], lo=0.0, lo_open=False, hi=MAX_STRENGTH,
+                      hi_open=False)  # fmt: skip
     return [c * strength for c in color]
 
 
@@ -196,7 +198,8 @@ def _materials(r: _Reader, tbl: Any, tex_list: list, tex_index: dict) -> tuple[l
             emissive = _MAT["emissive"]
             mat = {
                 "type": "emissive", "texture": texture_ref(m, mp, albedo=False, default_color=[1.0, 1.0, 1.0]),
-                "strength": r.real(m, mp, "strength", emissive["strength"], lo=0.0, lo_open=False),
+                "strength": r.real(m, mp, "strength", emissive["strength"], lo=0.0, lo_open=False, hi=MAX_STRENGTH,
+                                   hi_open=False),  # fmt: skip
                 **{k: r.boolean(m, mp, k, emissive[k]) for k in ("two_sided", "keplerian", "beaming", "colour_shift")},
             }  # fmt: skip
         index[name] = len(out)

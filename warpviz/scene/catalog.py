@@ -1,9 +1,11 @@
 """The shipped figure scenes: where they live and how a bare name such as ``fig07`` finds its file.
 
-Shipped scenes are the ``scenes/*.toml`` files of the repository, the folder next to the ``warpviz``
-package (warpviz is installed in editable mode, so the package directory is the repository's). The
-environment variable ``WARPVIZ_SCENES`` (folders separated by ``os.pathsep``) is searched first, for
-installations that keep the scenes elsewhere.
+Shipped scenes are the ``scenes/*.toml`` files of the repository. A built package (a wheel) carries
+them, with their meshes and textures, inside the package as ``warpviz/scenes`` (:data:`PACKAGE_SCENES`);
+an editable install finds the repository's folder next to the package directory
+(:data:`REPOSITORY_SCENES`). The environment variable ``WARPVIZ_SCENES`` (folders separated by
+``os.pathsep``) is searched first, for scenes kept elsewhere; an entry that is not a folder is warned
+about and ignored.
 
 Examples
 --------
@@ -19,16 +21,30 @@ from __future__ import annotations
 import difflib
 import os
 import tomllib
+import warnings
 from pathlib import Path
 
-__all__ = ["looks_like_path", "resolve_scene", "scene_description", "scene_dirs", "shipped_scenes"]
+__all__ = ["PACKAGE_SCENES", "REPOSITORY_SCENES", "looks_like_path", "resolve_scene", "scene_description",
+           "scene_dirs", "shipped_scenes"]
+
+#: Where an installed package keeps its scenes (with their meshes and textures): CMake installs the
+#: repository's ``scenes/`` there when a wheel is built.
+PACKAGE_SCENES = Path(__file__).resolve().parents[1] / "scenes"
+
+#: The repository's ``scenes/`` folder, beside the package directory (an editable install).
+REPOSITORY_SCENES = Path(__file__).resolve().parents[2] / "scenes"
 
 
 def scene_dirs() -> list[Path]:
     """Folders searched for shipped scenes, in order: ``$WARPVIZ_SCENES`` entries, then ``<repo>/scenes``."""
     dirs = [Path(p) for p in os.environ.get("WARPVIZ_SCENES", "").split(os.pathsep) if p]
-    dirs.append(Path(__file__).resolve().parents[2] / "scenes")
-    return [d for d in dirs if d.is_dir()]
+    for d in dirs:
+        if not d.is_dir():
+            what = "a file" if d.is_file() else "not there"
+            warnings.warn(f"WARPVIZ_SCENES names {str(d)!r}, which is {what}, not a folder of scenes; it is ignored",
+                          stacklevel=2)  # fmt: skip
+    dirs += [PACKAGE_SCENES, REPOSITORY_SCENES]
+    return list(dict.fromkeys(d for d in dirs if d.is_dir()))
 
 
 def shipped_scenes() -> list[Path]:

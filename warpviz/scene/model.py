@@ -100,6 +100,11 @@ class Scene:
         return _build(_Reader(label=None, positions=None, base_dir=Path(base_dir)), data, path=None)
 
     # ------------------------------------------------------------------ queries
+    @property
+    def has_paper(self) -> bool:
+        """Whether the scene has a ``[render.paper]`` table (the size and samples of its paper figure)."""
+        return bool(self._paper)
+
     def size(self, *, paper: bool = False) -> tuple[int, int]:
         """Image (width, height) in pixels, from [render] or, with ``paper``, [render.paper]."""
         w, h = self._render.get("width", DEFAULT_SIZE[0]), self._render.get("height", DEFAULT_SIZE[1])

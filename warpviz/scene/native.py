@@ -43,12 +43,12 @@ from typing import Any
 
 import numpy as np
 
-from warpviz.limits import MAX_IMAGE_SIDE
+from warpviz.limits import MAX_IMAGE_SIDE, MAX_STRENGTH
 from warpviz._native import core
 from warpviz.scene.reader import SceneError
 from warpviz.spacetime import metric_from_params
 
-__all__ = ["REQUIRED", "SCHEMA", "native_camera", "native_material", "native_scene", "schema_keys"]
+__all__ = ["REQUIRED", "SCHEMA", "native_camera", "native_material", "native_scene", "scene_emits", "schema_keys"]
 
 
 class _Required:
@@ -336,8 +336,8 @@ def native_material(material: Mapping[str, Any], *, textures: int = 0, where: st
         return {"type": kind, "ior": ior, "tint": _vec3(m, "tint", w, kind, table=tb), "emission": emission}
     out = {"type": kind, "texture": _index(m, "texture", w, textures, kind, table=tb),
            "strength": _number(m, "strength", w, kind, table=tb)}  # fmt: skip
-    if not out["strength"] >= 0:
-        _fail(f"{w}.strength", "must be >= 0")
+    if not 0 <= out["strength"] <= MAX_STRENGTH:
+        _fail(f"{w}.strength", f"must be in [0, {MAX_STRENGTH:g}]")
     for key in ("two_sided", "keplerian", "beaming", "colour_shift"):
         out[key] = _flag(m, key, w, kind, table=tb)
     return out
@@ -470,3 +470,33 @@ def native_scene(scene: Mapping[str, Any]) -> dict:
     if problem is not None:
         _fail("camera.position", problem[1])
     return out
+
+
+def scene_emits(native: Mapping[str, Any]) -> bool:
+    """Whether anything in a checked native scene gives off light: a shape whose material emits (an
+    ``emissive`` material of positive strength, or a reflecting one with a positive ``emission``), or a
+    sky (either sheet's) with a colour, an image, stars or spots. A scene that does not renders black.
+
+    Examples
+    --------
+    >>> dark = native_scene({"metric": {"name": "minkowski"}, "camera": {"position": [0, -5, 0],
+    ...     "look_at": [0, 0, 0], "width": 4, "height": 4}, "textures": [], "materials": [], "shapes": [],
+    ...     "environment": {"color": [0, 0, 0]}})
+    >>> scene_emits(dark), scene_emits(dict(dark, environment={"color": [0.1, 0, 0]}))
+    (False, True)
+    """
+    materials = native.get("materials", [])
+    used = {int(s["material"]) for s in native.get("shapes", []) if "material" in s}
+    for i in used:
+        m = materials[i] if 0 <= i < len(materials) else {}
+        if m.get("type") == "emissive" and float(m.get("strength", 0.0)) > 0.0:
+            return True
+        if max((float(v) for v in m.get("emission", (0.0,))), default=0.0) > 0.0:
+            return True
+    for sky in (native.get("environment"), native.get("environment_other")):
+        if not sky:
+            continue
+        if max(float(v) for v in sky.get("color", (0.0,))) > 0.0 or sky.get("image") or sky.get("stars") \
+                or sky.get("spots"):  # fmt: skip
+            return True
+    return False

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from warpviz.limits import MESH_LIMIT_VARIABLE, mesh_limit_bytes
 from warpviz.scene import primitives
 from warpviz.scene.native import SCHEMA
 from warpviz.scene.reader import _describe, _Reader, key_name
@@ -103,16 +104,33 @@ def _shape(r: _Reader, op: tuple, kind: str, o: dict) -> list[dict]:
 
 
 def _read_mesh(r: _Reader, kp: tuple, file: Path):
+    import warnings
+
     import trimesh
 
     try:
-        mesh = trimesh.load(str(file), force="mesh", process=False)
+        limit = mesh_limit_bytes()
+    except ValueError as exc:
+        raise r.error(kp, f"{key_name(kp)}: {exc}") from None
+    size = file.stat().st_size
+    if size > limit:
+        raise r.error(kp, f"{key_name(kp)}: mesh {file.name!r} is {size / 2**20:.0f} MB, more than the "
+                          f"{limit / 2**20:.0f} MB a mesh file may be (set {MESH_LIMIT_VARIABLE} to a larger number "
+                          "of MB to read it)")  # fmt: skip
+    try:
+        with warnings.catch_warnings():  # the loaders' own warnings (NaN arithmetic) say less than the checks below
+            warnings.simplefilter("ignore")
+            mesh = trimesh.load(str(file), force="mesh", process=False)
     except Exception as exc:  # noqa: BLE001 - any loader failure is the file's fault
         raise r.error(kp, f"{key_name(kp)}: cannot read mesh {file.name!r}: {exc}") from None
     vertices = np.asarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=np.float64)
     faces = np.asarray(getattr(mesh, "faces", np.empty((0, 3))), dtype=np.int32)
     if vertices.ndim != 2 or len(vertices) == 0 or faces.ndim != 2 or len(faces) == 0:
         raise r.error(kp, f"{key_name(kp)}: mesh {file.name!r} has no triangles")
+    bad = int(np.count_nonzero(~np.isfinite(vertices).all(axis=1)))
+    if bad:
+        raise r.error(kp, f"{key_name(kp)}: mesh {file.name!r} has {bad} vertices whose coordinates are not "
+                          "finite numbers (NaN or infinity)")  # fmt: skip
     uv = getattr(getattr(mesh, "visual", None), "uv", None)
     uvs = None
     if uv is not None and np.shape(uv) == (len(vertices), 2):

@@ -190,6 +190,8 @@ class _Reader:
         full = p if p.is_absolute() else self.base_dir / p
         if suffixes is not None and p.suffix.lower() not in suffixes:
             raise self.error(kp, f"{key_name(kp)} = {rel!r}: unsupported {kind} format (use {', '.join(suffixes)})")
+        if full.is_dir():
+            raise self.error(kp, f"{key_name(kp)}: {kind} file {rel!r} is a folder, not a file")
         if not full.is_file():
             raise self.error(
                 kp, f"{key_name(kp)}: {kind} file {rel!r} not found (paths are relative to the scene file's folder)"
