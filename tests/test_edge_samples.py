@@ -7,6 +7,8 @@ exactly that of the plain render (bit for bit), for any window and thread count;
 the pixels a lamp's edge crosses.
 """
 
+import re
+
 import numpy as np
 import pytest
 
@@ -73,11 +75,11 @@ def test_a_scene_without_emitters_gets_no_edge_samples():
     assert img.stats["edge_pixels"] == 0 and np.all(img.aovs["samples"] == 2)
 
 
-@pytest.mark.parametrize(("value", "message"), [(0, "edge_samples must be a positive integer"),
-                                                (65, "edge_samples must be 1-64"), (2.0, "positive integer"),
-                                                (True, "positive integer")])
+@pytest.mark.parametrize(("value", "message"), [(0, "edge_samples must be an integer in [1, 64], got 0"),
+                                                (65, "edge_samples must be an integer in [1, 64]"),
+                                                (2.0, "must be an integer"), (True, "must be an integer")])
 def test_bad_edge_samples_are_named(value, message):
-    with pytest.raises(ValueError, match=message):
+    with pytest.raises(ValueError, match=re.escape(message)):
         wv.render(FLAT, spp=1, edge_samples=value)
 
 

@@ -376,7 +376,7 @@ API_CASES = [
     ("unknown AOV", lambda: wv.render("fig04", width=8, height=6, spp=1, aovs=["colour"]), ValueError, "unknown AOV"),
     ("crop outside", lambda: wv.render("fig04", width=8, height=6, spp=1, crop=(4, 0, 8, 6)), ValueError,
      "inside the 8x6 image"),
-    ("spp beyond the counter", lambda: wv.render("fig04", width=8, height=6, spp=2**31), ValueError, "spp must be at most"),
+    ("spp beyond the counter", lambda: wv.render("fig04", width=8, height=6, spp=2**31), ValueError, "spp must be an integer in [1, 2147483647]"),
     ("width beyond the limit", lambda: wv.render("fig04", width=70000, height=6, spp=1), ValueError,
      "width must be an integer in [1, 65536]"),
 ]  # fmt: skip

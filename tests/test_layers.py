@@ -5,7 +5,7 @@ C++: core < spacetime < scene < film < integrators < engine < metrics, bindings.
 its own layer and of lower ones; nothing includes a metric file (they are top-floor plugins). This test reads
 every #include "..." under renderer_ext/ and fails on one that points up.
 
-Python: _native, io < spacetime < tracing < scene < render < export < viewer < web < the package root < cli. A
+Python: _native, io, limits, options < spacetime < tracing < scene < render < export < viewer < web < the package root < cli. A
 module may import modules of its own layer and of lower ones, at module level or inside a function; the one
 exception is reading ``__version__`` from the package root. This test reads every import of warpviz/.
 """
@@ -71,7 +71,8 @@ def test_the_checker_refuses_upward_and_sideways_top_floor_includes():
 PACKAGE = Path(__file__).resolve().parents[1] / "warpviz"
 PY_LAYERS = ["_native", "spacetime", "tracing", "scene", "render", "export", "viewer", "web", "__init__", "cli"]
 PY_RANK = {name: i for i, name in enumerate(PY_LAYERS)}
-PY_RANK["_core"] = PY_RANK["io"] = PY_RANK["limits"] = PY_RANK["_native"]  # the floor: the core, file formats, limits
+# the floor: the core, file formats, limits and the table of render options
+PY_RANK["_core"] = PY_RANK["io"] = PY_RANK["limits"] = PY_RANK["options"] = PY_RANK["_native"]
 
 
 def modules():

@@ -47,5 +47,5 @@ def test_stratified_pixels_keep_the_mean_and_lower_edge_noise():
 
 
 def test_pixel_sampler_is_validated():
-    with pytest.raises(ValueError, match="pixel_sampler must be 'sobol' or 'independent'"):
+    with pytest.raises(ValueError, match="pixel_sampler must be one of 'sobol', 'independent', got 'halton'"):
         wv.render(room(metric("minkowski"), size=(4, 3)), spp=1, pixel_sampler="halton")

@@ -236,11 +236,11 @@ def test_bad_scenes_raise_clear_errors(change, message):
 
 
 def test_bad_options():
-    with pytest.raises(ValueError, match="spp must be a positive integer"):
+    with pytest.raises(ValueError, match=r"spp must be an integer in \[1, 2147483647\], got 0"):
         wv.render(furnace(), spp=0)
     with pytest.raises(ValueError, match="record_pixels row 0"):
         wv.render(furnace(), spp=1, record_pixels=[[100, 0]])
-    with pytest.raises(ValueError, match="unknown stepper"):
+    with pytest.raises(ValueError, match="stepper must be one of 'rk4', 'dopri5', 'dop853', got 'euler'"):
         wv.render(furnace(), spp=1, stepper="euler")
 
 

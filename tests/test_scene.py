@@ -14,8 +14,6 @@ from warpviz.scene import AOV_NAMES, RENDER_OPTION_KEYS, Scene, SceneError, load
 from warpviz.scene.catalog import resolve_scene, shipped_scenes
 
 SHIPPED = shipped_scenes()
-HAS_RENDER = callable(getattr(wv, "render", None))
-needs_render = pytest.mark.skipif(not HAS_RENDER, reason="warpviz.render (the renderer) is not built yet")
 
 FIGURES = ["fig02", "fig03", "fig04", "fig05", "fig06a", "fig06b", "fig07", "fig08", "fig09", "fig10a", "fig10b",
            "fig10c", "fig10d", "fig10e", "fig11a", "fig11b", "fig12", "fig13"]  # fmt: skip
@@ -117,7 +115,6 @@ def test_shipped_scene_loads_and_is_well_formed(path):
     assert scene.outputs["aovs"] is None or set(scene.outputs["aovs"]) <= set(AOV_NAMES)
 
 
-@needs_render
 @pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])
 def test_shipped_scene_renders_tiny(path):
     img = wv.render(load_scene(path), width=16, height=12, spp=1, threads=2)

@@ -27,7 +27,6 @@ import subprocess
 import warnings
 import sys
 import time
-import types
 from pathlib import Path
 from typing import Any, Optional
 
@@ -48,6 +47,7 @@ from rich.text import Text
 
 import warpviz
 from warpviz.io import check_writable, written_by_warpviz
+from warpviz.options import option_help
 from warpviz.limits import (EXPOSURE_RANGE, MAX_EDGE_SAMPLES, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES,
                             duration_seconds, exposure_stops, noise_level)
 from warpviz.render.denoise import DenoiserMissing
@@ -159,24 +159,18 @@ def _stop_word() -> str:
     return "terminated" if _terminated else "interrupted"
 
 
-def _api(name: str, module: str) -> Any:
-    """A public function of warpviz that may not exist yet (``render``, ``view``), or None."""
-    obj = getattr(warpviz, name, None)
-    if isinstance(obj, types.ModuleType):
-        obj = getattr(obj, name, None)
-    if obj is None:
-        try:
-            obj = getattr(importlib.import_module(f"warpviz.{module}"), name, None)
-        except ImportError:
-            obj = None
-    return obj if callable(obj) else None
+def _viewer():
+    """:func:`warpviz.view` (PyVista and VTK are imported when it is first used)."""
+    from warpviz.viewer import view
+
+    return view
 
 
 def _renderer():
-    fn = _api("render", "render")
-    if fn is None:
-        _fail("the renderer (warpviz.render) is not available in this build of warpviz")
-    return fn
+    """:func:`warpviz.render`, called where a command's work starts (after every check of its input)."""
+    from warpviz.render.render import render
+
+    return render
 
 
 def _parse_size(value: Optional[str]) -> Optional[tuple[int, int]]:
@@ -446,23 +440,16 @@ def render(
         "larger than memory in parts.",
     ),  # fmt: skip
     threads: int = typer.Option(0, "--threads", min=0, help="Worker threads; 0 uses every core."),
-    seed: Optional[int] = typer.Option(None, "--seed", min=0, max=MAX_SEED, help="Random seed (default: the scene's)."),
+    seed: Optional[int] = typer.Option(None, "--seed", min=0, max=MAX_SEED, help=option_help("seed")),
     flat: bool = typer.Option(False, "--flat", help="Render the same scene in flat space, for comparison."),
     paper: bool = typer.Option(False, "--paper", help="Use the scene's [render.paper] size and sample count."),
     no_light_sampling: bool = typer.Option(
-        False, "--no-light-sampling", help="Brute-force path tracing, without light connection."
+        False, "--no-light-sampling", help="Brute-force path tracing: light_sampling off. " + option_help("light_sampling")
     ),
-    light_connection: Optional[str] = typer.Option(
-        None, "--light-connection",
-        help="How light samples find the lights in curved space: 'lens' (default: every lensed image, exact "
-        "in Schwarzschild, Reissner-Nordstrom and Ellis, Newton-refined proxies in Kerr) or 'aimed' (the "
-        "older flat-space proxies aimed by pilot geodesics, for comparison).",
-    ),  # fmt: skip
+    light_connection: Optional[str] = typer.Option(None, "--light-connection", help=option_help("light_connection")),
     edge_samples: Optional[int] = typer.Option(
-        None, "--edge-samples", min=1, max=MAX_EDGE_SAMPLES,
-        help="Samples per pixel, as a multiple of --spp, in the pixels a directly seen light's edge crosses "
-        "(found by probe rays before rendering, so the image stays unbiased). Default 8; 1 turns it off.",
-    ),  # fmt: skip
+        None, "--edge-samples", min=1, max=MAX_EDGE_SAMPLES, help=option_help("edge_samples")
+    ),
     max_error_fraction: float = typer.Option(
         MAX_ERROR_FRACTION, "--max-error-fraction", min=0.0, max=1.0,
         help="Exit with code 3 when more than this fraction of the samples failed (a geodesic ran out of "
@@ -559,7 +546,7 @@ def trace(
     spp: Optional[int] = typer.Option(None, "--spp", min=1, max=MAX_SPP, help="Samples per pixel (default: the scene's)."),
     size: Optional[str] = typer.Option(None, "--size", callback=_parse_size, help="Image size WIDTHxHEIGHT."),
     threads: int = typer.Option(0, "--threads", min=0, help="Worker threads; 0 uses every core."),
-    seed: Optional[int] = typer.Option(None, "--seed", min=0, max=MAX_SEED, help="Random seed (default: the scene's)."),
+    seed: Optional[int] = typer.Option(None, "--seed", min=0, max=MAX_SEED, help=option_help("seed")),
     flat: bool = typer.Option(False, "--flat", help="Flat space instead of the scene's metric."),
     paper: bool = typer.Option(False, "--paper", help="Use the scene's [render.paper] settings."),
     exposure: Optional[float] = typer.Option(None, "--exposure", help="PNG --image only: exposure in stops (see render)."),
@@ -630,9 +617,7 @@ def view(
 ) -> None:
     """Open the PyVista teaching view: the image beside the 3-D paths of its light rays."""
     with _guard():
-        viewer = _api("view", "viewer")
-        if viewer is None:
-            _fail("the PyVista viewer (warpviz.view) is not available in this build of warpviz")
+        viewer = _viewer()
         path = Path(target)
         if path.is_file() and path.suffix.lower() in (".vtp", ".vtm"):
             obj: Any = _ray_file(path)
@@ -866,8 +851,6 @@ def doctor(
         usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else cpus
         table.add_row("threads", f"{usable} usable of {cpus} CPUs; threads=0 uses every core")
         table.add_row("metrics", ", ".join(m["name"] for m in warpviz.registered_metrics()))
-        table.add_row("renderer", "available" if _api("render", "render") else "not in this build")
-        table.add_row("viewer", "available" if _api("view", "viewer") else "not in this build")
         folders = ", ".join(str(d) for d in scene_dirs()) or "nowhere"
         table.add_row("scenes", f"{len(shipped_scenes())} shipped in {folders}")
         for dist in ("numpy", "trimesh", "pillow", "OpenEXR", "typer", "rich", "pyvista", "vtk", "matplotlib", "pyoidn"):

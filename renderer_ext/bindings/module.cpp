@@ -233,7 +233,8 @@ nb::dict resolve_film(nb::dict film) {
   return out;
 }
 
-// A render option; warpviz/render/render.py resolves every default and validates every value, so each is present.
+// A render option; Python resolves every default and checks every value against its table (warpviz/options.py),
+// so each is present; a missing one is an error naming it (tests/test_render_options.py).
 template <class T>
 T option(const nb::dict& o, const char* key) {
   T v;

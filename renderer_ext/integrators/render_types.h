@@ -21,36 +21,39 @@ enum LightConnectionKind : int { kAimedConnection = 0, kLensConnection = 1 };
 // pixel's stratified (Owen-scrambled Sobol) sequence (core/sobol.h).
 enum PixelSamplerKind : int { kIndependentPixels = 0, kSobolPixels = 1 };
 
+// The options of one render. The binding (bindings/module.cpp) sets every field from the options Python
+// resolved against its table (warpviz/options.py: one row per option, its default and range), so the
+// initial values here are zeros, not defaults: a default lives in that table alone.
 struct RenderOptions {
   // Samples [sample_begin, sample_begin + spp) of every pixel ([E * sample_begin, E * (sample_begin + spp)) of
   // an edge pixel, E = edge_samples): a render in passes over consecutive ranges holds exactly the samples
   // of one render of their total (render_loop.h), so it can stop after any pass and resume later.
-  int spp = 16;
+  int spp = 0;
   int sample_begin = 0;
   uint64_t seed = 0;
-  int max_depth = 8;   // geodesic segments per path
-  int rr_depth = 3;    // Russian roulette from this segment on
-  bool light_sampling = true;
+  int max_depth = 0;  // geodesic segments per path
+  int rr_depth = 0;   // Russian roulette from this segment on
+  bool light_sampling = false;
   TraceOptions trace;  // tol, max_steps, escape_radius, max_drift (record is ignored)
-  double chord_tol = 1e-3;
-  bool aim_lights = true;  // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
-  bool light_margin = true;  // ... and enlarge quad and disk proxies by that shift (lensed images are larger)
+  double chord_tol = 0.0;
+  bool aim_lights = false;    // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
+  bool light_margin = false;  // ... and enlarge quad and disk proxies by that shift (lensed images are larger)
   int light_connection = kLensConnection;
-  int lens_images = 2;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
+  int lens_images = 0;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
   int pixel_sampler = kSobolPixels;
   // Pixels on the edge of a directly seen light (render_loop.h: edge_pixels) get edge_samples x spp samples:
   // the lamp's edge inside a pixel (a lensed lamp's thin arcs) is the noise no light connection touches.
-  int edge_samples = 1;
+  int edge_samples = 0;
   // The window's edge pixels (indices into the window, ascending) when a previous range found them
   // (RenderResult::edge_list): the probes are then not traced again.
   bool edges_given = false;
   std::vector<int64_t> edges;
   int filter = kBoxFilter;     // pixel reconstruction filter (film/pixel_filter.h), by importance sampling
-  double filter_radius = 0.5;  // its support's half-width in pixels
-  bool batch = true;       // curved space: step the geodesics of many samples together in SIMD lanes
+  double filter_radius = 0.0;  // its support's half-width in pixels
+  bool batch = false;      // curved space: step the geodesics of many samples together in SIMD lanes
   // Local error tolerance of pilot geodesics (at least trace.tol). A pilot only decides where a light's
   // proxy is seen from, never what a sample is worth, so its accuracy cannot bias the image.
-  double pilot_tol = 1e-4;
+  double pilot_tol = 0.0;
   int threads = 0;
   int crop[4] = {0, 0, 0, 0};  // window (x0, y0, width, height) of the image to render; width 0: all of it
   FilmAovs aovs;               // the AOVs the film keeps

@@ -33,8 +33,9 @@ from collections.abc import Callable
 import numpy as np
 
 from warpviz._native import core
-from warpviz.limits import (MAX_EDGE_SAMPLES, MAX_SEED, MAX_SPP, duration_seconds, image_side, noise_level,
-                            tolerance_problem)
+from warpviz.limits import MAX_SPP, duration_seconds, image_side, noise_level, tolerance_problem
+from warpviz.options import DEFAULT_OPTIONS as OPTION_DEFAULTS
+from warpviz.options import FILTER_RADII, check_option
 from warpviz.render.denoise import DENOISE_FEATURES, require_denoiser
 from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
@@ -50,57 +51,10 @@ __all__ = ["render", "DarkSceneWarning", "DEFAULT_OPTIONS", "FILTER_RADII", "OPT
 OPTIONAL_AOVS = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal")
 
 #: Renderer options and their defaults (see docs/native-scene.md).
-DEFAULT_OPTIONS = {
-    "spp": 16,
-    "seed": 0,
-    "max_depth": 8,
-    "rr_depth": 3,
-    "light_sampling": True,
-    "stepper": "dopri5",
-    # 1e-7, looser than trace()'s 1e-9: a pixel averages many paths, and at 1e-7 the image error is
-    # already ~5e-5 at the 99th percentile, far below the noise of any spp a frame uses
-    # (benchmarks/README.md, image work-precision); a single traced ray is looked at on its own.
-    "tol": 1e-7,
-    "max_steps": 20000,
-    "escape_radius": 1e3,
-    "max_drift": None,  # warpviz.tracing.default_max_drift(tol)
-    "chord_tolerance": 1e-3,
-    # curved space: "lens" samples every lensed image of a light where the metric is static and spherical
-    # (integrators/lens_connection.h), elsewhere (Kerr) the aimed proxies; "aimed" uses those everywhere
-    "light_connection": "lens",
-    "lens_images": 2,  # image orders the lens connection samples: 0 direct, 1 round the far side, ...
-    # where a camera sample goes in its pixel: "sobol" = stratified (Owen-scrambled Sobol, any sample
-    # count), "independent" = uniform jitter from the sample's random numbers
-    "pixel_sampler": "sobol",
-    # pixels on the edge of a directly seen light (found by probe rays before any sample) get this many
-    # times spp samples: a lamp's edge inside a pixel is noise no light connection touches (1: off)
-    "edge_samples": 8,
-    # pixel reconstruction filter, by importance sampling of each camera sample's offset
-    # (film/pixel_filter.h): "box" (the pixel), "gaussian" (sigma = radius / 3), "mitchell" (B = C = 1/3)
-    "filter": "box",
-    "filter_radius": None,  # FILTER_RADII[filter]: half-width of its support in pixels
-    "aim_lights": True,  # curved space: aim light samples with pilot geodesics (integrators/light_aim.h)
-    "light_margin": True,  # ... and enlarge quad/disk light proxies by the aim's correction (lensed images)
-    "pilot_tol": 1e-4,  # tolerance of those pilots (at least tol); they only aim, so it cannot bias
-    "batch": True,  # curved space: many samples' geodesics step together in SIMD lanes (same image either way)
-    "aovs": OPTIONAL_AOVS,  # the optional AOVs computed (radiance, errors and samples always are)
-    "crop": None,  # (x0, y0, width, height): render only this window of the image
-}
-
-
-#: Each filter's default radius (pixels): the box of the pixel itself, a gaussian of sigma 0.5 px (Mitsuba's
-#: and pbrt's default) truncated at 3 sigma, and Mitchell-Netravali's usual support of 2 px.
-FILTER_RADII = {"box": 0.5, "gaussian": 1.5, "mitchell": 2.0}
-
-
-def _real_in(name: str, value, lo: float, hi: float) -> float:
-    """value as a float in the open interval (lo, hi), else a ValueError naming the option."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise ValueError(f"{name} must be a number, got {value!r}")
-    value = float(value)
-    if not (lo < value < hi):
-        raise ValueError(f"{name} must be in ({lo:g}, {hi:g}), got {value!r}")
-    return value
+#: What a render starts from: every option of the table's defaults (warpviz/options.py), the optional AOVs
+#: computed (radiance, errors and samples always are) and no crop window ((x0, y0, width, height) renders only
+#: that window of the image).
+DEFAULT_OPTIONS = {**OPTION_DEFAULTS, "aovs": OPTIONAL_AOVS, "crop": None}
 
 
 def _positive_int(name: str, value, *, allow_zero: bool = False) -> int:
@@ -133,6 +87,11 @@ def render(
     light_margin: bool | None = None,
     pilot_tol: float | None = None,
     batch: bool | None = None,
+    rr_depth: int | None = None,
+    max_steps: int | None = None,
+    escape_radius: float | None = None,
+    max_drift: float | None = None,
+    chord_tolerance: float | None = None,
     aovs=None,
     crop=None,
     progress: Callable[[int, int], object] | None = None,
@@ -222,6 +181,10 @@ def render(
         Integration tolerance of those pilot geodesics (default 1e-4; never tighter than ``tol`` is
         needed). They only decide where light samples are aimed, so their accuracy changes the noise,
         never the expected image.
+    rr_depth, max_steps, escape_radius, max_drift, chord_tolerance : optional, keyword-only
+        Russian roulette's first segment, steps per segment, the escape radius, the largest drift of a
+        conserved quantity and the chord tolerance (docs/render-options.md lists every option, its range
+        and default: warpviz/options.py's table).
     batch : bool, optional, keyword-only
         In curved space, step the geodesics of many samples together in SIMD lanes (default True,
         1.5-1.9x faster). The image is bit-identical either way.
@@ -292,47 +255,20 @@ def render(
                  "light_connection": light_connection, "lens_images": lens_images,
                  "pixel_sampler": pixel_sampler, "edge_samples": edge_samples, "filter": filter,
                  "filter_radius": filter_radius, "light_margin": light_margin, "pilot_tol": pilot_tol,
-                 "batch": batch}  # fmt: skip
+                 "batch": batch, "rr_depth": rr_depth, "max_steps": max_steps, "escape_radius": escape_radius,
+                 "max_drift": max_drift, "chord_tolerance": chord_tolerance}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:
             options[key] = value
-    for key in ("spp", "max_depth"):
-        options[key] = _positive_int(key, options[key])
-    if options["spp"] > MAX_SPP:
-        raise ValueError(f"spp must be at most {MAX_SPP} (2**31 - 1), got {options['spp']}")
-    options["seed"] = _positive_int("seed", options["seed"], allow_zero=True)
-    if options["seed"] > MAX_SEED:
-        raise ValueError(f"seed must be in [0, 2**63 - 1], got {options['seed']}")
-    options["rr_depth"] = _positive_int("rr_depth", options["rr_depth"])
-    for key, lo, hi in (("tol", 0.0, 1.0), ("pilot_tol", 0.0, 1.0), ("chord_tolerance", 0.0, math.inf),
-                        ("escape_radius", 0.0, math.inf)):  # fmt: skip
-        options[key] = _real_in(key, options[key], lo, hi)
-    options["max_steps"] = _positive_int("max_steps", options["max_steps"])
-    for key in ("light_sampling", "aim_lights", "light_margin", "batch"):
-        if not isinstance(options[key], (bool, np.bool_)):
-            raise ValueError(f"{key} must be True or False, got {options[key]!r}")
-        options[key] = bool(options[key])
-    if options["light_connection"] not in ("lens", "aimed"):
-        raise ValueError(f"light_connection must be 'lens' or 'aimed', got {options['light_connection']!r}")
-    options["lens_images"] = _positive_int("lens_images", options["lens_images"])
-    options["edge_samples"] = _positive_int("edge_samples", options["edge_samples"])
-    if options["edge_samples"] > MAX_EDGE_SAMPLES:
-        raise ValueError(f"edge_samples must be 1-{MAX_EDGE_SAMPLES}, got {options['edge_samples']}")
-    if options["pixel_sampler"] not in ("sobol", "independent"):
-        raise ValueError(f"pixel_sampler must be 'sobol' or 'independent', got {options['pixel_sampler']!r}")
-    if options["filter"] not in FILTER_RADII:
-        raise ValueError(f"filter must be one of {', '.join(map(repr, FILTER_RADII))}, got {options['filter']!r}")
-    options["filter_radius"] = (FILTER_RADII[options["filter"]] if options["filter_radius"] is None
-                                else _real_in("filter_radius", options["filter_radius"], 0.0, 64.0))  # fmt: skip
-    if options["lens_images"] > 4:
-        raise ValueError(f"lens_images must be 1-4, got {options['lens_images']}")
-    if options["stepper"] not in STEPPERS:
-        raise ValueError(f"unknown stepper {options['stepper']!r} (known: {', '.join(STEPPERS)})")
+    for name in OPTION_DEFAULTS:  # the one check of every option (warpviz/options.py)
+        options[name] = check_option(name, options[name])
+    if options["filter_radius"] is None:
+        options["filter_radius"] = FILTER_RADII[options["filter"]]
     problem = tolerance_problem(options["stepper"], options["tol"])
     if problem:
         raise ValueError(problem)
-    options["max_drift"] = (default_max_drift(options["tol"]) if options["max_drift"] is None
-                            else _real_in("max_drift", options["max_drift"], 0.0, math.inf))  # fmt: skip
+    if options["max_drift"] is None:
+        options["max_drift"] = default_max_drift(options["tol"])
     options["threads"] = _positive_int("threads", threads, allow_zero=True)
     if progress is not None and not callable(progress):
         raise ValueError("progress must be a callable(done, total)")

@@ -23,17 +23,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from warpviz.limits import image_side
+from warpviz.options import SCENE_OPTIONS
 from warpviz.scene.native import native_scene
 from warpviz.scene.reader import _Reader
 from warpviz.spacetime import Metric
 
 __all__ = ["DEFAULT_SIZE", "RENDER_OPTION_KEYS", "Scene"]
 
-#: [render] keys that are renderer options (docs/native-scene.md), with width/height the image size.
-RENDER_OPTION_KEYS = (
-    "spp", "seed", "max_depth", "rr_depth", "light_sampling", "stepper", "tol", "max_steps",
-    "escape_radius", "max_drift", "chord_tolerance",
-)  # fmt: skip
+#: [render] keys that are renderer options (warpviz/options.py), besides width/height, the image size.
+RENDER_OPTION_KEYS = SCENE_OPTIONS
 
 DEFAULT_SIZE = (96, 72)
 

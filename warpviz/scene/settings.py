@@ -14,12 +14,13 @@ from typing import Any
 
 import numpy as np
 
-from warpviz.limits import EXPOSURE_RANGE, MAX_IMAGE_SIDE, MAX_SEED, MAX_SPP, TONEMAP_NAMES, tolerance_problem
+from warpviz.limits import EXPOSURE_RANGE, MAX_IMAGE_SIDE, TONEMAP_NAMES, tolerance_problem
+from warpviz.options import DEFAULT_OPTIONS, RENDER_OPTIONS
 from warpviz._native import core, registered_metrics
 from warpviz.scene.native import SCHEMA
 from warpviz.scene.reader import _describe, _Reader, did_you_mean, key_name
 from warpviz.spacetime import Metric, metric_from_dict
-from warpviz.tracing import STEPPERS
+
 
 __all__ = ["AOV_NAMES"]
 
@@ -86,34 +87,33 @@ def _sheet(r: _Reader, tbl: dict, path: tuple, *, ellis: bool) -> int:
     return sheet
 
 
-_RENDER_CHECKS = {
-    "width": ("integer", 1, MAX_IMAGE_SIDE), "height": ("integer", 1, MAX_IMAGE_SIDE), "spp": ("integer", 1, MAX_SPP),
-    "seed": ("integer", 0, MAX_SEED), "max_depth": ("integer", 1, 10000), "rr_depth": ("integer", 0, None),
-    "light_sampling": ("boolean",), "stepper": ("choice", STEPPERS), "tol": ("real", 0.0, 1.0),
-    "max_steps": ("integer", 1, None), "escape_radius": ("real", 0.0, None), "max_drift": ("real", 0.0, None),
-    "chord_tolerance": ("real", 0.0, None),
-}  # fmt: skip
+#: The options a scene's [render] may set, by name (their ranges: warpviz/options.py), besides the image size.
+_RENDER_OPTIONS = {o.name: o for o in RENDER_OPTIONS if o.scene}
 
 
 def _render_table(r: _Reader, path: tuple, tbl: Any, *, allow_paper: bool) -> dict:
-    allowed = list(_RENDER_CHECKS) + (["paper"] if allow_paper else [])
+    allowed = ["width", "height", *_RENDER_OPTIONS] + (["paper"] if allow_paper else [])
     r.table(path, tbl, allowed)
     out = {}
     for key in tbl:
         if key == "paper":
             continue
-        kind, *args = _RENDER_CHECKS[key]
-        if kind == "integer":
-            out[key] = r.integer(tbl, path, key, lo=args[0], hi=args[1])
-        elif kind == "real":
-            out[key] = r.real(tbl, path, key, lo=args[0], hi=args[1])
-        elif kind == "boolean":
+        if key in ("width", "height"):
+            out[key] = r.integer(tbl, path, key, lo=1, hi=MAX_IMAGE_SIDE)
+            continue
+        o = _RENDER_OPTIONS[key]
+        if o.kind == "int":
+            out[key] = r.integer(tbl, path, key, lo=o.lo, hi=o.hi)
+        elif o.kind == "real":
+            hi = None if o.hi is None or math.isinf(o.hi) else o.hi
+            out[key] = r.real(tbl, path, key, lo=o.lo, hi=hi, lo_open=o.lo_open, hi_open=o.hi_open)
+        elif o.kind == "bool":
             out[key] = r.boolean(tbl, path, key)
         else:
-            out[key] = r.choice(tbl, path, key, args[0])
+            out[key] = r.choice(tbl, path, key, o.choices)
     if "tol" in out:
-        # Without a stepper here, the renderer's (dopri5 by default; render() checks the one it uses).
-        problem = tolerance_problem(out.get("stepper", "dopri5"), out["tol"])
+        # Without a stepper here, the renderer's default (render() checks the one it uses).
+        problem = tolerance_problem(out.get("stepper", DEFAULT_OPTIONS["stepper"]), out["tol"])
         if problem:
             raise r.error(path + ("tol",), f"{key_name(path)}.{problem}")
     return out

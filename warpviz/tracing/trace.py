@@ -9,10 +9,11 @@ import numpy as np
 
 from warpviz._native import core, registered_metrics
 from warpviz.limits import tolerance_problem
+from warpviz.options import STEPPER_NAMES
 from warpviz.spacetime import Metric, metric_from_dict
 from warpviz.tracing.rays import RayBundle, recorded_point_data
 
-STEPPERS = ("rk4", "dopri5", "dop853")
+STEPPERS = STEPPER_NAMES  # the render options' table names them (warpviz/options.py)
 
 
 def default_max_drift(tol: float) -> float:
