@@ -43,7 +43,7 @@ from warpviz.render.passes import PassesDone, PassReport, run_passes
 from warpviz.render.resume import film_from_image, read_exr, resume_problem, resume_settings, scene_sha256
 from warpviz.scene.native import native_scene, scene_emits
 from warpviz.spacetime import metric_from_params
-from warpviz.tracing import STEPPERS, RayBundle, default_max_drift, recorded_point_data
+from warpviz.tracing import RayBundle, default_max_drift, recorded_point_data
 
 __all__ = ["render", "DarkSceneWarning", "DEFAULT_OPTIONS", "FILTER_RADII", "OPTIONAL_AOVS"]
 
