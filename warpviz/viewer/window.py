@@ -1,16 +1,21 @@
-"""The teaching window: :class:`TeachingView`, the state of one window and the drawing and clicks linking its
-image panel to its 3-D panel (see :func:`warpviz.view`, which builds it).
+"""The teaching window: :class:`TeachingView`, the state of one window, the 3-D panel's drawing (landmarks,
+objects, rays and their colour bar, legend) and the selection linking it to the image panel (see
+:func:`warpviz.view`, which builds it).
+
+The window's other concerns are parts of their own: :mod:`~warpviz.viewer.image_panel` (the picture, its
+marks and its refinement), :mod:`~warpviz.viewer.framing` (axes, camera, label placement) and
+:mod:`~warpviz.viewer.events` (clicks and keys); where text goes and how big it is,
+:mod:`~warpviz.viewer.layout`.
 """
 
 from __future__ import annotations
 
 import math
-import weakref
 from typing import Any
 
 import numpy as np
 
-from warpviz.scene import camera_basis, camera_frustum, flat_camera_ray, scene_surfaces
+from warpviz.scene import camera_frustum, flat_camera_ray, scene_surfaces
 from warpviz.spacetime import ellis_embedding, ellis_embedding_points, metric_features
 from warpviz.tracing import RayStatus
 from warpviz.viewer.annotations import (
@@ -23,17 +28,18 @@ from warpviz.viewer.annotations import (
     landmark_labels,
     legend_entries,
     length_text,
-    length_unit,
     next_coloring,
     view_title,
     visible_ray_ids,
 )
-from warpviz.viewer.decorations import bar_range, draw_legend, legend_rows, round_axes
-from warpviz.viewer.image_marks import angle_ticks, edge_circle
-from warpviz.viewer.layout import BAR_BOX, add_text, font_px, line_px, place_beside, text_box, text_scale, wrap
-from warpviz.viewer.meshes import _around, _cut_lines_at, _first_points, _focus_bounds, _image_grid, _pixel_outlines, _surface_rgb
-from warpviz.viewer.picking import image_cell_to_pixel, pixel_for_ray, rays_for_pixel, recorded_pixels
-from warpviz.viewer.progressive import DEFAULT_MAX_SPP, DEFAULT_REFRESH_MS, BackgroundRefiner, ProgressivePreview
+from warpviz.viewer.callbacks import KEYS_HELP
+from warpviz.viewer.decorations import bar_range, draw_legend
+from warpviz.viewer.events import Events
+from warpviz.viewer.framing import Framing
+from warpviz.viewer.image_panel import ImagePanel
+from warpviz.viewer.layout import BAR_BOX, add_text, font_px, line_px, text_box, text_scale, wrap
+from warpviz.viewer.meshes import _around, _cut_lines_at, _first_points, _focus_bounds, _pixel_outlines, _surface_rgb
+from warpviz.viewer.picking import pixel_for_ray, rays_for_pixel
 from warpviz.viewer.view_content import ViewContent
 
 __all__ = ["SCALAR_TITLES", "TeachingView"]
@@ -75,35 +81,13 @@ _PICKED_COLOR = LEGEND_STYLE["picked"][1]
 _FLAT_COLOR = LEGEND_STYLE["flat_rays"][1]
 _FRUSTUM_COLOR = LEGEND_STYLE["camera"][1]
 
-#: The help line under the status line.
-_KEYS_HELP = "click a ray or a pixel    f: flat-space ray    c: colouring    n: more bounces"
-
-#: The image panel's title.
-IMAGE_TITLE = "What the camera sees"
-
-
-def _weak(method, *, takes_args: bool = True):
-    """A callable forwarding to a bound method without keeping its object alive (VTK observers hold
-    their callbacks from C++, out of reach of Python's garbage collector). ``takes_args=False`` makes
-    a callable of no arguments, as PyVista's key events want."""
-    ref = weakref.WeakMethod(method)
-
-    def call(*args):
-        bound = ref()
-        return None if bound is None else bound(*args)
-
-    def call_without_args():
-        bound = ref()
-        return None if bound is None else bound()
-
-    return call if takes_args else call_without_args
 
 
 # --------------------------------------------------------------------------------------------------
 # the window
 
 
-class TeachingView:
+class TeachingView(ImagePanel, Framing, Events):
     """One teaching window: the image panel, the 3-D panel and the selection linking them.
 
     Build it with :func:`view` (``return_plotter=True`` returns the plotter; this object is its
@@ -215,108 +199,6 @@ class TeachingView:
                 if actor.GetVisibility() and actor.GetInput():
                     out.append((role, text_box(actor, renderer)))
         return out
-
-    def _status_lines(self, renderer) -> None:
-        """The status line and the keys under it, bottom left of ``renderer``."""
-        _, height = self._panel_px(renderer)
-        gap = 6.0 / height
-        self._status_actor = self._text(renderer, "status", "", x=0.012, y=gap + line_px("help", self._scale) / height,
-                                        valign="bottom")  # fmt: skip
-        self._text(renderer, "help", _KEYS_HELP, x=0.012, y=gap, valign="bottom", color="#404040")
-
-    def _draw_image(self) -> None:
-        p = self.plotter
-        height, width = self.image.shape[:2]
-        self._image_actor = p.add_mesh(_image_grid(self.image), scalars="rgb", rgb=True, lighting=False,
-                                       show_scalar_bar=False, name="image")  # fmt: skip
-        if self.rays is not None:
-            marks = recorded_pixels(self.rays)
-            if len(marks):
-                outlines = _pixel_outlines(marks, height, pad=0.0, z=0.01)
-                p.add_mesh(outlines, color="gray", line_width=1, lighting=False, pickable=False, name="recorded")
-        renderer = self._image_renderer
-        panel_w, panel_h = self._panel_px(renderer)
-        s = self._scale
-        title = f"{IMAGE_TITLE}: click a pixel to see its light paths"
-        self._text(renderer, "title", wrap(title, panel_w - 20, font_px("title", s)), x=0.012, y=0.988)
-        self._status_lines(renderer)
-        # the image's frame: room for the title above, the angle scale left and below, the status lines
-        top = 2.6 * line_px("title", s) + 10
-        bottom = line_px("help", s) + 2 * line_px("status", s) + 2.4 * line_px("ticks", s) + 16
-        left = 4.0 * font_px("ticks", s) + 12
-        right = 0.03 * panel_w
-        per_px = max(width / max(1.0, panel_w - left - right), height / max(1.0, panel_h - top - bottom))
-        cx = width / 2.0 - ((left + (panel_w - left - right) / 2.0) - panel_w / 2.0) * per_px
-        cy = height / 2.0 - ((bottom + (panel_h - top - bottom) / 2.0) - panel_h / 2.0) * per_px
-        p.view_xy()
-        p.enable_parallel_projection()
-        cam = renderer.GetActiveCamera()
-        cam.SetFocalPoint(cx, cy, 0.0)
-        cam.SetPosition(cx, cy, 10.0 * max(width, height))
-        cam.SetViewUp(0.0, 1.0, 0.0)
-        cam.SetParallelScale(0.5 * panel_h * per_px)
-        renderer.ResetCameraClippingRange()
-        self._draw_image_marks(per_px)
-
-    def _draw_image_marks(self, per_px: float) -> None:
-        """The angle scale along the image's lower and left edges, the exact edge of the shadow (or the
-        window) and the chosen pixels' labels."""
-        import pyvista as pv
-
-        renderer = self._image_renderer
-        height, width = self.image.shape[:2]
-        s = self._scale
-        tick = 0.6 * font_px("ticks", s) * per_px  # tick length in image units
-        if self.camera is not None:
-            ticks = angle_ticks(self.camera, width, height)
-            lines = [[(x, 0.0, 0.02), (x, -tick, 0.02)] for x, _ in ticks["x"]]
-            lines += [[(0.0, height - y, 0.02), (-tick, height - y, 0.02)] for y, _ in ticks["y"]]
-            if lines:
-                segments = np.asarray(lines, dtype=np.float64).reshape(-1, 3)
-                self._replace(renderer, "angle_ticks", pv.line_segments_from_points(segments), color="#303030",
-                              line_width=2)  # fmt: skip
-            for x, label in ticks["x"]:
-                self._text(renderer, "ticks", label, x=x, y=-1.3 * tick, halign="centered", world=True)
-            for y, label in ticks["y"]:
-                self._text(renderer, "ticks", label, x=-1.4 * tick, y=height - y, halign="right", valign="centered",
-                           world=True)  # fmt: skip
-            self._text(renderer, "ticks", "angle from the centre of view", x=width / 2.0,
-                       y=-1.3 * tick - 1.25 * font_px("ticks", s) * per_px, halign="centered", world=True,
-                       color="#404040")  # fmt: skip
-            edge = edge_circle(self.metric, self.camera, width, height)
-            if edge is not None and len(edge[0]) > 1:
-                points, label = edge
-                inside = (points[:, 0] >= 0) & (points[:, 0] <= width) & (points[:, 1] >= 0) & (points[:, 1] <= height)
-                if inside.any():
-                    xyz = np.column_stack([points[:, 0], height - points[:, 1], np.full(len(points), 0.025)])
-                    self._replace(renderer, "edge_circle", pv.lines_from_points(xyz), color="white", line_width=2)
-                    top = xyz[inside][np.argmax(xyz[inside, 1])]
-                    self.image_edge_label = label
-                    self._text(renderer, "label", label, x=top[0], y=top[1] + 0.4 * tick, halign="centered",
-                               valign="bottom", world=True, background="white")  # fmt: skip
-        self._place_pixel_labels(per_px)
-
-    def _place_pixel_labels(self, per_px: float) -> None:
-        """Label the chosen pixels with what they show: each label beside its pixel, on the first side
-        (right, left, above, below) where it overlaps no label placed before and stays in the panel."""
-        renderer = self._image_renderer
-        height, _ = self.image.shape[:2]
-        vx0, _, vx1, _ = renderer.GetViewport()
-        panel_x = (vx0 * self.plotter.window_size[0], vx1 * self.plotter.window_size[0])
-        taken = [text_box(actor, renderer) for role in ("label", "ticks") for _, actor in self._text_actors.get(role, [])]
-        for (x, y), text in self.pixel_labels.items():
-            actor = self._text(renderer, "label", text, x=x + 0.5, y=height - 1 - y + 0.5, world=True,
-                               background="white", valign="centered")  # fmt: skip
-            place_beside(actor, renderer, taken, panel_x, gap=0.6 * font_px("label", self._scale))
-
-    def _unrotate_image(self) -> None:
-        """Undo any rotation of the image panel's camera (a drag there), keeping its pan and zoom."""
-        cam = self._image_renderer.GetActiveCamera()
-        fx, fy, _ = cam.GetFocalPoint()
-        cam.SetFocalPoint(fx, fy, 0.0)
-        cam.SetPosition(fx, fy, cam.GetDistance())
-        cam.SetViewUp(0.0, 1.0, 0.0)
-        self._image_renderer.ResetCameraClippingRange()
 
     def _embed_surfaces(self, surfaces, reach: float):
         """The scene's shapes laid on the embedding diagram (each point on its shape's sheet), without the
@@ -460,7 +342,7 @@ class TeachingView:
         if self._image_renderer is None:  # one panel: the status lines go under the title
             lines = self.title_text.count("\n") + 1
             top = 0.988 - (lines * line_px("title", self._scale) + 4) / panel_h
-            self._text(renderer, "help", _KEYS_HELP, x=0.012, y=top, color="#404040")
+            self._text(renderer, "help", KEYS_HELP, x=0.012, y=top, color="#404040")
             self._status_actor = self._text(renderer, "status", "", x=0.012,
                                             y=top - line_px("help", self._scale) / panel_h)  # fmt: skip
 
@@ -472,52 +354,6 @@ class TeachingView:
         self._draw_axes()
         self._set_3d_camera()
         return shown
-
-    def _draw_axes(self) -> None:
-        """The axes' box at the round values inside the focus box (:func:`round_axes`)."""
-        if self._focus is None:
-            return
-        p = self.plotter
-        p.subplot(0, self._scene_col)
-        unit = length_unit(self.metric)
-        titles = [f"{axis} ({unit})" for axis in "xyz"]
-        bounds, counts = round_axes(self._focus)
-        spans = [b - a for a, b in zip(bounds[0::2], bounds[1::2])]
-        step = min((span / max(1, n - 1) for span, n in zip(spans, counts) if span >= 0.1 * max(spans)),
-                   default=1.0)  # a thin axis (a fan in a plane) does not set the digits
-        digits = max(0, -math.floor(math.log10(step) + 1e-9)) if step > 0 else 0
-        p.show_bounds(bounds=bounds, xtitle=titles[0], ytitle=titles[1], ztitle=titles[2], location="outer",
-                      ticks="outside", font_size=font_px("axes", self._scale), fmt=f"%.{digits}f", grid=False,
-                      use_3d_text=False, n_xlabels=counts[0], n_ylabels=counts[1], n_zlabels=counts[2])
-
-    def frame(self, bounds) -> None:
-        """Look at a box in the 3-D panel: the axes at the round values inside it and the camera fitted
-        to it between the title and the colour bar (what is outside is still drawn).
-
-        Parameters
-        ----------
-        bounds : sequence of 6 float
-            (xmin, xmax, ymin, ymax, zmin, zmax) in scene units.
-        """
-        b = np.asarray(bounds, dtype=np.float64).reshape(6)
-        if not (np.isfinite(b).all() and (b[1::2] >= b[0::2]).all()):
-            raise ValueError(f"bounds must be finite (xmin, xmax, ymin, ymax, zmin, zmax), got {list(bounds)}")
-        self._focus = b
-        self._fit_points = np.array([(x, y, z) for x in b[0:2] for y in b[2:4] for z in b[4:6]])
-        self._draw_axes()
-        self._set_3d_camera()
-        self.plotter.render()
-
-    def set_title(self, text: str) -> None:
-        """Replace the 3-D panel's title (wrapped to the panel); the legend and the framing make room."""
-        panel_w, _ = self._panel_px(self._scene_renderer)
-        self.title_text = wrap(str(text), panel_w - 20, font_px("title", self._scale))
-        renderer, actor = self._text_actors["title"][-1]
-        actor.SetInput(self.title_text)
-        self.legend = []  # drawn again under the new title
-        self._update_legend()
-        self._set_3d_camera()
-        self.plotter.render()
 
     def _draw_rays(self) -> None:
         """(Re)draw the rays of the shown bounces, coloured by :attr:`color_by`, with their colour bar."""
@@ -625,202 +461,11 @@ class TeachingView:
         self.refresh()
         return self.bounces
 
-    def _set_3d_camera(self) -> None:
-        r = self._scene_renderer
-        if self._focus is None:
-            r.reset_camera()
-            return
-        b = self._focus
-        centre = np.array([(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2])
-        radius = 0.5 * float(np.linalg.norm([b[1] - b[0], b[3] - b[2], b[5] - b[4]])) or 1.0
-        if self.camera is not None and not self._embedding:  # above and behind the scene camera
-            forward, right, up = camera_basis(self.camera)
-            offset = 1.0 * up - 0.45 * forward + 0.45 * right
-        elif self.camera is not None:  # the embedding diagram from the side, a little above its rim
-            forward, right, _ = camera_basis(self.camera)
-            offset = 1.0 * right - 0.35 * forward + np.array([0.0, 0.0, 0.4])
-        elif self._embedding:
-            offset = np.array([0.35, -1.0, 0.4])
-        elif self._planar_rays():  # e.g. a fan in the equatorial plane: from above, slightly tilted
-            offset = np.array([0.0, -0.3, 1.0])
-        else:
-            offset = np.array([0.55, -0.75, 0.9])
-        offset /= np.linalg.norm(offset)
-        view_up = np.array([0.0, 0.0, 1.0]) if abs(offset[2]) < 0.95 else np.array([0.0, 1.0, 0.0])
-        angle = math.radians(r.camera.view_angle)
-        distance = 1.1 * radius / math.sin(angle / 2.0)
-        cam = r.camera
-        cam.focal_point = centre.tolist()
-        cam.position = (centre + distance * offset).tolist()
-        cam.up = view_up.tolist()
-        r.ResetCameraClippingRange()
-        self._fit_in_band()
-        self._justify_labels()
-
-    def _justify_labels(self) -> None:
-        """Each 3-D label beside its point where it stays inside the panel and clear of the labels placed
-        before it (:func:`~warpviz.viewer.layout.place_beside`)."""
-        r = self._scene_renderer
-        x0 = r.GetViewport()[0] * self.plotter.window_size[0]
-        panel_w, _ = self._panel_px(r)
-        taken: list = []
-        for _, actor in self._text_actors.get("label3d", []):
-            place_beside(actor, r, taken, (x0, x0 + panel_w))
-
-    def fit_points(self) -> np.ndarray:
-        """The points the 3-D camera frames, shape (K, 3): the drawn landmarks, objects and camera (a
-        subsample) and the corners of the axes' box."""
-        axes = self._scene_renderer.cube_axes_actor
-        corners = []
-        if axes is not None:
-            b = axes.GetBounds()
-            corners = [(x, y, z) for x in b[0:2] for y in b[2:4] for z in b[4:6]]
-        pieces = [np.asarray(corners, dtype=np.float64).reshape(-1, 3)]
-        if self._fit_points is not None:
-            pieces.append(self._fit_points)
-        return np.concatenate(pieces)
-
-    def _fit_in_band(self) -> None:
-        """Move the 3-D camera along its view and shift the picture so what :meth:`fit_points` names fills
-        the band between the top texts and the colour bar, with room for the axes' labels."""
-        r = self._scene_renderer
-        cam = r.camera
-        panel_w, panel_h = self._panel_px(r)
-        top, bottom = self._bands_px()
-        pad = 2.5 * line_px("axes", self._scale)  # the axes' labels and titles outside the box
-        avail_w, avail_h = max(1.0, panel_w - 2 * pad), max(1.0, panel_h - top - bottom - 2.5 * pad)
-        corners = self.fit_points()
-        x0, y0 = r.GetViewport()[0] * self.plotter.window_size[0], r.GetViewport()[1] * self.plotter.window_size[1]
-        def extent():
-            shown = []
-            for corner in corners:
-                r.SetWorldPoint(*corner, 1.0)
-                r.WorldToDisplay()
-                dx, dy, _ = r.GetDisplayPoint()
-                shown.append((dx - x0, dy - y0))
-            shown = np.asarray(shown)
-            return shown.min(axis=0), shown.max(axis=0)
-
-        for _ in range(3):
-            lo, hi = extent()
-            factor = max((hi[0] - lo[0]) / avail_w, (hi[1] - lo[1]) / avail_h, 1e-3)
-            focal = np.asarray(cam.focal_point)
-            cam.position = (focal + factor * (np.asarray(cam.position) - focal)).tolist()
-            lo, hi = extent()  # then the box's centre onto the band's (WindowCenter moves it by -size/2 per unit)
-            want = np.array([panel_w / 2.0, bottom + 1.5 * pad + avail_h / 2.0])
-            shift = ((lo + hi) / 2.0 - want) / (np.array([panel_w, panel_h]) / 2.0)
-            wx, wy = cam.GetWindowCenter()
-            cam.SetWindowCenter(wx + shift[0], wy + shift[1])
-        r.ResetCameraClippingRange()
-
-    def _top_lines_px(self) -> float:
-        """Height (pixels) of the 3-D panel's title, and of the status lines where they sit under it."""
-        height = (self.title_text.count("\n") + 1) * line_px("title", self._scale) + 6
-        if self._image_renderer is None:
-            height += 2 * line_px("status", self._scale) + line_px("help", self._scale)
-        return height
-
-    def _bands_px(self) -> tuple[float, float]:
-        """Heights (pixels) of the 3-D panel's top band (title, status, legend) and bottom band (the colour
-        bar and its caption), which the scene is framed between."""
-        renderer = self._scene_renderer
-        panel_w, panel_h = self._panel_px(renderer)
-        possible = self.drawn_items() + ["highlight", "picked"] + (["flat_rays"] if self.camera is not None else [])
-        rows = len(legend_rows(legend_entries(possible, self.metric), self._scale, panel_w - 16))
-        top = self._top_lines_px() + rows * 1.3 * font_px("legend", self._scale) + 8
-        bottom = 8.0
-        if self._rays_actor is not None:
-            bottom += (BAR_BOX[1] + BAR_BOX[3]) * panel_h + self._caption_lines * line_px("caption", self._scale)
-        return top, bottom
-
-    def _planar_rays(self) -> bool:
-        """Whether all rays lie in a plane z = const."""
-        if self.rays is None or not self.rays.n_points:
-            return False
-        b = self.rays.bounds
-        return b[5] - b[4] <= 1e-6 * max(b[1] - b[0], b[3] - b[2], 1e-300)
-
     def _embed(self, points: np.ndarray, sheet) -> np.ndarray:
         sheets = np.broadcast_to(np.asarray(sheet), (points.shape[0],))
         return ellis_embedding_points(self.metric, points, sheets)
 
     # ---------------------------------------------------------------- progressive image
-
-    def set_image(self, image: np.ndarray, *, samples: int | None = None) -> None:
-        """Show a new picture of the same size in the image panel (a refined preview).
-
-        Parameters
-        ----------
-        image : numpy.ndarray
-            (H, W, 3) uint8 sRGB, the size of the current image.
-        samples : int, optional, keyword-only
-            Its samples per pixel, for the status line.
-        """
-        image = np.asarray(image)
-        if self.image is None or image.shape != self.image.shape or image.dtype != np.uint8:
-            want = None if self.image is None else self.image.shape
-            raise ValueError(f"set_image needs a {want} uint8 image, got {image.shape} {image.dtype}")
-        from vtkmodules.util.numpy_support import vtk_to_numpy
-
-        self.image = image
-        colors = self._image_actor.GetMapper().GetInput().GetCellData().GetArray("rgb")
-        vtk_to_numpy(colors)[:] = image[::-1].reshape(-1, 3)  # in place: the mapper keeps its array
-        colors.Modified()
-        if samples is not None:
-            self.image_samples = int(samples)
-        self.refresh()
-
-    def start_refining(self, *, max_spp: int = DEFAULT_MAX_SPP, refresh_ms: int = DEFAULT_REFRESH_MS,
-                       threads: int | None = None) -> BackgroundRefiner | None:  # fmt: skip
-        """Refine the image while the window is open: passes of the preview with more samples are
-        rendered on a background thread (:class:`~warpviz.viewer.progressive.BackgroundRefiner`) and
-        swapped in by a VTK timer every ``refresh_ms``.
-
-        Parameters
-        ----------
-        max_spp : int, keyword-only
-            Samples per pixel at which refining stops.
-        refresh_ms : int, keyword-only
-            How often the window takes the newest image.
-        threads : int, optional, keyword-only
-            Render threads (default: the renderer's).
-
-        Returns
-        -------
-        BackgroundRefiner or None
-            The worker, or None when the view has no scene to refine (a render or rays given, not a
-            scene) or already refines.
-        """
-        if self.refiner is not None or self.source is None or self.preview is None or self.image is None:
-            return None
-        preview = ProgressivePreview(self.source, width=self.preview["width"], height=self.preview["height"],
-                                     spp=self.preview["spp"], seed=self.preview.get("seed") or 0,
-                                     max_spp=max(int(max_spp), self.preview["spp"]), first=self.preview.get("rgb"),
-                                     threads=threads)  # fmt: skip
-        self.refiner = BackgroundRefiner(preview).start()
-        iren = self.plotter.iren
-        if iren is not None:
-            iren.add_observer("TimerEvent", _weak(self._on_timer))
-            self._timer_id = iren.create_timer(int(refresh_ms), repeating=True)
-        return self.refiner
-
-    def _on_timer(self, *_) -> bool:
-        """Swap in the refiner's newest image, if there is one; returns whether the image changed."""
-        latest = self.refiner.take() if self.refiner is not None else None
-        if latest is None:
-            return False
-        samples, image = latest
-        self.set_image(image, samples=samples)
-        return True
-
-    def stop_refining(self) -> None:
-        """Stop the background passes (the image keeps its last refinement)."""
-        if self.refiner is not None:
-            self.refiner.stop()
-            timer = getattr(self, "_timer_id", None)
-            if timer is not None and self.plotter.iren is not None:
-                self.plotter.iren.interactor.DestroyTimer(timer)
-                self._timer_id = None
 
     # ---------------------------------------------------------------- selection
 
@@ -1018,88 +663,12 @@ class TeachingView:
 
     # ---------------------------------------------------------------- clicks and keys
 
-    def pick(self, x: float, y: float) -> tuple[str, Any] | None:
-        """Act on a click at display position (x, y) (pixels from the window's lower-left corner).
 
-        A click on the image selects that pixel; a click on a ray selects the ray.
 
-        Returns
-        -------
-        tuple or None
-            ``("pixel", (px, py))``, ``("ray", i)``, or None when nothing pickable is there.
-        """
-        from vtkmodules.vtkRenderingCore import vtkCellPicker
 
-        targets = []
-        if self._image_renderer is not None:
-            targets.append((self._image_renderer, self._image_actor, "pixel"))
-        if self._rays_actor is not None:
-            targets.append((self._scene_renderer, self._rays_actor, "ray"))
-        for renderer, actor, kind in targets:
-            if not renderer.IsInViewport(int(x), int(y)):
-                continue
-            picker = vtkCellPicker()
-            picker.SetTolerance(0.004)
-            picker.PickFromListOn()
-            picker.AddPickList(actor)
-            if not picker.Pick(float(x), float(y), 0.0, renderer) or picker.GetCellId() < 0:
-                return None
-            cell = int(picker.GetCellId())
-            if kind == "ray":  # a cell of the drawn segments: back to the ray's index
-                cell = int(self._visible[cell])
-            if kind == "pixel":
-                height, width = self.image.shape[:2]
-                pixel = image_cell_to_pixel(cell, width=width, height=height)
-                self.select_pixel(*pixel)
-                return "pixel", pixel
-            self.select_ray(cell)
-            return "ray", cell
-        return None
 
-    def _install_events(self) -> None:
-        iren = self.plotter.iren
-        if iren is None:
-            return
-        iren.add_observer("LeftButtonPressEvent", _weak(self._on_press))
-        iren.add_observer("LeftButtonReleaseEvent", _weak(self._on_release))
-        iren.add_observer("RightButtonPressEvent", _weak(self._on_right))
-        self.plotter.add_key_event("f", _weak(self.toggle_flat, takes_args=False))
-        self.plotter.add_key_event("c", _weak(self.cycle_coloring, takes_args=False))
-        self.plotter.add_key_event("n", _weak(self.show_bounces, takes_args=False))
-        style = iren.style
-        if hasattr(style, "add_observer"):  # keep VTK's own "f" (fly to the point under the mouse) out of it
-            style.add_observer("CharEvent", _weak(self._on_char))
-        if self.camera is not None:  # a tick box for the flat rays, bottom left of the 3-D panel
-            self.plotter.subplot(0, self._scene_col)
-            x0 = self._scene_renderer.GetViewport()[0] * self.plotter.window_size[0]
-            self._flat_box = self.plotter.add_checkbox_button_widget(
-                _weak(self.toggle_flat), value=self.flat_visible, size=20, position=(x0 + 8, 8), color_on=_FLAT_COLOR)
 
-    def _event_position(self) -> tuple[int, int]:
-        return tuple(self.plotter.iren.get_event_position())
 
-    def _on_press(self, *_) -> None:
-        self._press = self._event_position()
-
-    def _on_release(self, *_) -> None:
-        if self._press is None:
-            return
-        (x0, y0), (x1, y1) = self._press, self._event_position()
-        self._press = None
-        if abs(x1 - x0) <= 3 and abs(y1 - y0) <= 3:  # a click, not a drag
-            self.pick(x1, y1)
-        elif self._image_renderer is not None and self._image_renderer.IsInViewport(x0, y0):
-            self._unrotate_image()
-            self.plotter.render()
-
-    def _on_char(self, style, *_) -> None:
-        """Replaces the interactor style's key handling (VTK calls an observer of CharEvent instead of
-        the style's OnChar): every key but ``f`` goes on to the style."""
-        if style.GetInteractor().GetKeySym() not in ("f", "F"):
-            style.OnChar()
-
-    def _on_right(self, *_) -> None:
-        self.pick(*self._event_position())
 
 
 def _bar_mark(renderer, x: float, y0: float, y1: float):
