@@ -7,7 +7,7 @@ Run as ``python -c ANNOUNCING_CLI render ...`` (tests/test_hostile_input.py, tes
 ANNOUNCING_CLI = """
 import contextlib, sys
 from warpviz import cli
-real = cli._progress_bar
+real = cli.common._progress_bar
 @contextlib.contextmanager
 def announcing(label, *, enabled, **kw):
     with real(label, enabled=False, **kw) as update:
@@ -19,7 +19,7 @@ def announcing(label, *, enabled, **kw):
             update(done, total)
         progress.on_pass = update.on_pass
         yield progress
-cli._progress_bar = announcing
+cli.common._progress_bar = announcing
 sys.argv = ["warpviz"] + sys.argv[1:]
 cli.main()
 """

@@ -124,7 +124,7 @@ def test_render_passes_options_and_reports_interruption(tmp_path, monkeypatch):
         kw["progress"](3, 10)
         return FakeImage(kw["width"] or 96, kw["height"] or 72, completed=False)
 
-    monkeypatch.setattr(cli, "_renderer", lambda: fake_render)
+    monkeypatch.setattr(cli.common, "_renderer", lambda: fake_render)
     out = tmp_path / "partial.png"
     result = invoke("render", "fig07", "-o", out, "--size", "20x10", "--spp", "3", "--seed", "5", "--threads", "2",
                     "--flat", "--paper", "--no-light-sampling")  # fmt: skip
@@ -145,7 +145,7 @@ def test_render_passes_edge_samples_only_when_given(tmp_path, monkeypatch):
         calls.append(kw)
         return FakeImage(kw["width"] or 96, kw["height"] or 72, completed=True)
 
-    monkeypatch.setattr(cli, "_renderer", lambda: fake_render)
+    monkeypatch.setattr(cli.common, "_renderer", lambda: fake_render)
     for args in ([], ["--edge-samples", "1"]):
         result = invoke("render", "fig07", "-o", tmp_path / "e.png", "--size", "8x6", "-q", "--force", *args)
         assert result.exit_code == 0, result.output
@@ -159,7 +159,7 @@ def test_render_default_output_and_aov_selection(tmp_path, monkeypatch):
         images.append(FakeImage(8, 6, completed=True))
         return images[-1]
 
-    monkeypatch.setattr(cli, "_renderer", lambda: fake_render)
+    monkeypatch.setattr(cli.common, "_renderer", lambda: fake_render)
     monkeypatch.chdir(tmp_path)
     result = invoke("render", "fig04", "-q")
     assert result.exit_code == 0, result.output
@@ -173,7 +173,7 @@ def test_runtime_errors_are_exit_1(monkeypatch, tmp_path):
     def broken(scene, **kw):
         raise RuntimeError("the core ran out of memory")
 
-    monkeypatch.setattr(cli, "_renderer", lambda: broken)
+    monkeypatch.setattr(cli.common, "_renderer", lambda: broken)
     result = invoke("render", "fig04", "-o", tmp_path / "x.png", "-q")
     assert result.exit_code == 1 and "RuntimeError: the core ran out of memory" in result.stderr
     assert "Traceback" not in result.output
@@ -217,7 +217,7 @@ def test_ctrl_c_saves_the_partial_image(tmp_path, monkeypatch):
 
         yield progress
 
-    monkeypatch.setattr(cli, "_progress_bar", interrupting_bar)
+    monkeypatch.setattr(cli.common, "_progress_bar", interrupting_bar)
     out = tmp_path / "partial.png"
     result = invoke("render", "fig07", "-o", out, "--size", "32x24", "--spp", "64", "--threads", "1")
     assert result.exit_code == 130, result.output
@@ -250,7 +250,7 @@ def test_trace_rejects_bad_pixels(tmp_path):
 
 def test_view_hands_scenes_and_files_to_the_viewer(monkeypatch, tmp_path):
     seen = []
-    monkeypatch.setattr(cli, "_viewer", lambda: lambda obj, **kw: seen.append((obj, kw)))
+    monkeypatch.setattr(cli.common, "_viewer", lambda: lambda obj, **kw: seen.append((obj, kw)))
     monkeypatch.setenv("DISPLAY", ":0")  # a window could open (the fake viewer opens none)
     monkeypatch.delenv("PYVISTA_OFF_SCREEN", raising=False)
     assert invoke("view", "fig07").exit_code == 0

@@ -128,7 +128,7 @@ def test_bad_render_options_are_refused_before_anything_is_written(tmp_path, arg
 
 
 def test_output_targets_are_checked_before_rendering(tmp_path, monkeypatch):
-    monkeypatch.setattr(cli, "_renderer", lambda: pytest.fail("rendered although the output cannot be written"))
+    monkeypatch.setattr(cli.common, "_renderer", lambda: pytest.fail("rendered although the output cannot be written"))
     scene = tmp_path / "ok.toml"
     scene.write_text(SCENE)
     (tmp_path / "d.png").mkdir()
@@ -542,7 +542,7 @@ TRIANGLE = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
 
 @pytest.mark.parametrize("name", ["/proc/x.png", "{folder}/" + "a" * 300 + ".png"], ids=["unwritable", "too long"])
 def test_an_output_that_cannot_be_written_is_refused_before_rendering(tmp_path, monkeypatch, name):
-    monkeypatch.setattr(cli, "_renderer", lambda: pytest.fail("rendered although the output cannot be written"))
+    monkeypatch.setattr(cli.common, "_renderer", lambda: pytest.fail("rendered although the output cannot be written"))
     scene = tmp_path / "ok.toml"
     scene.write_text(SCENE)
     before = snapshot(tmp_path)

@@ -313,7 +313,7 @@ def invoke(*args):
 
 def test_view_flags_reach_the_viewer(monkeypatch):
     seen = []
-    monkeypatch.setattr(cli, "_viewer", lambda: lambda obj, **kw: seen.append(kw))
+    monkeypatch.setattr(cli.common, "_viewer", lambda: lambda obj, **kw: seen.append(kw))
     monkeypatch.setenv("DISPLAY", ":0")
     monkeypatch.delenv("PYVISTA_OFF_SCREEN", raising=False)
     assert invoke("view", "fig07", "--bounces", "2", "--flat-ray", "--color-by", "redshift").exit_code == 0
