@@ -23,6 +23,7 @@ Examples
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 
 import numpy as np
@@ -160,8 +161,10 @@ def view_title(title: str, metric: Metric | None) -> str:
         return title
     marks = metric.landmarks
     name = type(metric).__name__
-    if "throat" in marks:
-        what = f"Ellis wormhole, throat radius b0 = {_num(marks['throat'])} units"
+    if "throat" in marks:  # named after its class (the registry's): EllisWormhole -> "Ellis wormhole"
+        words = re.sub(r"(?<=[a-z])(?=[A-Z])", " ", name).split()
+        words = [w.lower() if w in ("Wormhole", "Black", "Hole") else w for w in words]
+        what = f"{' '.join(words)}, throat radius b0 = {_num(marks['throat'])} units"
     elif metric.is_flat:
         what = f"{name} (flat space)"
     else:

@@ -239,7 +239,7 @@ class TeachingView(ImagePanel, Framing, Events):
                 grid = ellis_embedding(self.metric, resolution=24) if self._embedding else mesh
                 p.add_mesh(grid, style="wireframe", color="slategray", opacity=0.5, line_width=1, lighting=False,
                            pickable=False, name="embedding_grid")  # fmt: skip
-                waist_radius = (self.metric.throat if self._embedding
+                waist_radius = (self.metric.landmarks["throat"] if self._embedding
                                 else float(np.min(np.linalg.norm(mesh.points[:, :2], axis=1))))  # fmt: skip
                 waist = pv.Polygon(center=(0.0, 0.0, 0.0), radius=waist_radius, normal=(0, 0, 1), n_sides=96,
                                    fill=False)  # fmt: skip
