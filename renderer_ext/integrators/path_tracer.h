@@ -64,29 +64,10 @@ class PathTracer {
       : sc_(sc), o_(o), camera_(m, sc.camera), filter_(o.filter, o.filter_radius), segments_(m, sc, o), lights_(m, sc, o, segments_.options()),
         emission_(m, sc), lens_(m, sc, o.lens_images) {}
 
-  // One sample of pixel (px, py): a light path traced back from the camera. Writes the first-hit AOVs to
-  // the film (sample 0) and what it adds to the pixel to `out`.
-  Task<void> sample_pixel(int px, int py, int s, Film& film, SampleOut& out, bool recorded, RenderStats& st,
-                          Scheduler* sched) const {
-    std::vector<RecordedSegment>* rec = recorded ? &out.rec : nullptr;
-    PathFrames<M> frames;  // curved space: starts of this path's segments, the camera's first
-    if constexpr (!M::kFlat) {
-      frames.e[0] = camera_.start();
-      frames.n = frames.next = 1;
-    }
-    const Camera& cam = sc_.camera;
-    const size_t pix = size_t(py) * cam.width + px;  // the sample's identity in the image, whatever the window
-    Rng rng(o_.seed, pix, uint64_t(s));
-    double jx, jy, filter_weight;
-    if (o_.pixel_sampler == kSobolPixels) {
-      pixel_sample(o_.seed, pix, uint64_t(s), jx, jy);
-    } else {
-      jx = rng.uniform();
-      jy = rng.uniform();
-    }
-    V3 d = camera_.direction_sample(px, py, jx, jy, filter_, filter_weight);
-    V3 x = cam.position;
-    int sheet = cam.sheet, skip = -1;
+  // One light path while it is traced: what it has gathered (L, its throughput beta), the BSDF strategy's
+  // pending weight, the lens vertex whose pdf the next segment settles, and the bookkeeping around each
+  // geodesic segment (recording, steps, drift, failure).
+  struct PathState {
     V3 L{0, 0, 0}, beta{1, 1, 1};
     double mis = 1.0;  // weight of emission found by the next segment (BSDF strategy)
     // The lens connection's pdf of a BSDF-sampled direction depends on where it first hits a light, so at
@@ -98,17 +79,17 @@ class PathTracer {
     bool error = false;
     double max_drift = 0.0;
     int64_t steps = 0;
-    // The denoiser's features: albedo and normal at the first non-specular hit (no random numbers drawn).
-    out.albedo = {0, 0, 0};
-    out.albedo_normal = {0, 0, 0};
-    bool features_done = film.albedo_sum.empty() && film.albedo_normal_sum.empty();
-    // Recording and bookkeeping around each segment.
-    auto open = [&]() -> Track* {
+    std::vector<RecordedSegment>* rec = nullptr;  // a recorded pixel's segments
+    int px = 0, py = 0, s = 0;
+
+    // The track to record the next segment into (null: not recorded).
+    Track* open() {
       if (!rec) return nullptr;
       rec->emplace_back();
       return &rec->back().track;
-    };
-    auto close = [&](const SegmentEnd& e, int sh, int bounce, int8_t kind) {
+    }
+    // After a segment: what it was (recorded) and what it cost.
+    void close(const SegmentEnd& e, int sh, int bounce, int8_t kind) {
       if (rec) {
         RecordedSegment& r = rec->back();
         r.px = px;
@@ -122,20 +103,113 @@ class PathTracer {
       steps += e.steps;
       max_drift = std::max(max_drift, e.drift);
       if (e.status >= kMaxSteps) error = true;
-    };
+    }
+  };
+
+  // Where sample s of pixel (px, py) looks (pbrt's camera sample): the pixel's stratified point or uniform
+  // jitter, offset by the filter's importance sample; the filter's weight goes to `weight`.
+  V3 camera_direction(int px, int py, size_t pix, int s, Rng& rng, double& weight) const {
+    double jx, jy;
+    if (o_.pixel_sampler == kSobolPixels) {
+      pixel_sample(o_.seed, pix, uint64_t(s), jx, jy);
+    } else {
+      jx = rng.uniform();
+      jy = rng.uniform();
+    }
+    return camera_.direction_sample(px, py, jx, jy, filter_, weight);
+  }
+
+  // The light strategy at diffuse vertex e (pbrt's SampleLd): one light, chosen uniformly, and a direction
+  // to it, its geodesic traced, and what it brings weighted by the balance heuristic against BSDF sampling.
+  // With `lens`, a point on the light and one of its lensed images by the exact lens map
+  // (lens_connection.h; ps.lens_v keeps the vertex for the BSDF strategy's pdf); else a direction from the
+  // light's pilot-aimed proxy (light_connection.h; `aimed` keeps the proxies for the BSDF strategy's pdf).
+  Task<void> sample_light(const SegmentEnd& e, const Material& mat, const V3& albedo, const V3& n, const V3& wo,
+                          int bounce, bool lens, Rng& rng, PathState& ps, Aim& aimed, RenderStats& st,
+                          PathFrames<M>& frames, Scheduler* sched) const {
+    const SurfacePoint& sp = e.surface;
+    if (lens) {
+      ps.lens_v = lens_vertex(e);
+      // The light's index and, from what is left of the same uniform number, the image's: as many random
+      // numbers as the aimed connection draws, so a vanishing mass reproduces its (flat) paths.
+      const double ul = rng.uniform() * double(sc_.lights.size());
+      const int li = std::min(int(sc_.lights.size()) - 1, int(ul));
+      const double u3 = std::min(ul - double(li), 1.0 - 1e-16);
+      const double u1 = rng.uniform(), u2 = rng.uniform();
+      V3 wl, target;
+      double pl;
+      if (!lens_.sample(ps.lens_v, li, u1, u2, u3, wl, pl, target)) co_return;
+      double pb;
+      const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
+      if (!(max_component(f) > 0.0)) co_return;
+      Track* light_track = ps.open();
+      SegmentEnd le;
+      co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
+                                 le);
+      ps.close(le, e.sheet, bounce + 1, kLightSegment);
+      if (LensConnection<M>::light_sample_hits(le, sc_.lights[li], target))
+        ps.L += ps.beta * f * emission_.emission(le) / (pl + pb);
+      co_return;
+    }
+    co_await lights_.aim(e, sp.normal, wo, st, frames, sched, aimed);
+    const double ul = rng.uniform() * double(sc_.lights.size());
+    const int li = std::min(int(sc_.lights.size()) - 1, int(ul));
+    const double u3 = std::min(ul - double(li), 1.0 - 1e-16);  // the image, where a light has several
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    V3 wl;
+    if (!lights_.sample(aimed, e, li, u1, u2, u3, wl)) co_return;
+    double pb;
+    const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
+    const double pl = lights_.lights_pdf(aimed, e.sheet, e.to_local, wl);
+    if (!(max_component(f) > 0.0 && pl > 0.0)) co_return;
+    Track* light_track = ps.open();
+    SegmentEnd le;
+    co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
+                               le);
+    ps.close(le, e.sheet, bounce + 1, kLightSegment);
+    ps.L += ps.beta * f * emission_.emission(le) / (pl + pb);
+  }
+
+  // One sample of pixel (px, py): a light path traced back from the camera (pbrt's EvaluatePixelSample and
+  // Li). Writes the first-hit AOVs to the film (sample 0) and what it adds to the pixel to `out`. Its pieces:
+  // camera_direction (where the sample looks), sample_light (the light strategy at a diffuse vertex,
+  // pbrt's SampleLd) and, here, the path's segments, emission and BSDF sampling.
+  Task<void> sample_pixel(int px, int py, int s, Film& film, SampleOut& out, bool recorded, RenderStats& st,
+                          Scheduler* sched) const {
+    PathFrames<M> frames;  // curved space: starts of this path's segments, the camera's first
+    if constexpr (!M::kFlat) {
+      frames.e[0] = camera_.start();
+      frames.n = frames.next = 1;
+    }
+    const Camera& cam = sc_.camera;
+    const size_t pix = size_t(py) * cam.width + px;  // the sample's identity in the image, whatever the window
+    Rng rng(o_.seed, pix, uint64_t(s));
+    PathState ps;
+    ps.rec = recorded ? &out.rec : nullptr;
+    ps.px = px;
+    ps.py = py;
+    ps.s = s;
+    double filter_weight;
+    V3 d = camera_direction(px, py, pix, s, rng, filter_weight);
+    V3 x = cam.position;
+    int sheet = cam.sheet, skip = -1;
+    // The denoiser's features: albedo and normal at the first non-specular hit (no random numbers drawn).
+    out.albedo = {0, 0, 0};
+    out.albedo_normal = {0, 0, 0};
+    bool features_done = film.albedo_sum.empty() && film.albedo_normal_sum.empty();
 
     for (int bounce = 0; bounce < o_.max_depth; ++bounce) {
-      Track* track = open();
+      Track* track = ps.open();
       SegmentEnd e;
       co_await segments_.segment(x, sheet, d, skip, track, st, frames, sched, e);
-      close(e, sheet, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
+      ps.close(e, sheet, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
       if (bounce == 0 && s == 0) first_hit_aovs(film, film.index(px, py), e);
       const V3 Le = emission_.emission(e);
-      if (lens_prev) {
-        const double pl = e.status == kHit ? lens_.pdf(lens_v, lens_w, e.prim, e.pos) : 0.0;
-        mis = lens_pb / (lens_pb + pl);
+      if (ps.lens_prev) {
+        const double pl = e.status == kHit ? lens_.pdf(ps.lens_v, ps.lens_w, e.prim, e.pos) : 0.0;
+        ps.mis = ps.lens_pb / (ps.lens_pb + pl);
       }
-      L += beta * Le * mis;
+      ps.L += ps.beta * Le * ps.mis;
       if (e.status != kHit) break;
       const Material& mat = sc_.materials[sc_.prims[e.prim].material];
       if (!features_done && !mat.is_delta()) {
@@ -147,74 +221,28 @@ class PathTracer {
       const SurfacePoint& sp = e.surface;
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
       const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
-      Aim aimed;
       const bool lens = nee && o_.light_connection == kLensConnection && lens_.applies(e);
-      if (lens) {
-        // Light strategy: a point on one light by area and one of its lensed images (lens_connection.h).
-        lens_v = lens_vertex(e);
-        // The light's index and, from what is left of the same uniform number, the image's: as many random
-        // numbers as the aimed connection draws, so a vanishing mass reproduces its (flat) paths.
-        const double ul = rng.uniform() * double(sc_.lights.size());
-        const int li = std::min(int(sc_.lights.size()) - 1, int(ul));
-        const double u3 = std::min(ul - double(li), 1.0 - 1e-16);
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        V3 wl, target;
-        double pl;
-        if (lens_.sample(lens_v, li, u1, u2, u3, wl, pl, target)) {
-          double pb;
-          const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
-          if (max_component(f) > 0.0) {
-            Track* light_track = open();
-            SegmentEnd le;
-            co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames,
-                                       sched, le);
-            close(le, e.sheet, bounce + 1, kLightSegment);
-            if (LensConnection<M>::light_sample_hits(le, sc_.lights[li], target))
-              L += beta * f * emission_.emission(le) / (pl + pb);
-          }
-        }
-      } else if (nee) {
-        // Light strategy: a direction from the (pilot-aimed) flat-space proxy of one light, traced as a
-        // geodesic.
-        co_await lights_.aim(e, sp.normal, wo, st, frames, sched, aimed);
-        const double ul = rng.uniform() * double(sc_.lights.size());
-        const int li = std::min(int(sc_.lights.size()) - 1, int(ul));
-        const double u3 = std::min(ul - double(li), 1.0 - 1e-16);  // the image, where a light has several
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        V3 wl;
-        if (lights_.sample(aimed, e, li, u1, u2, u3, wl)) {
-          double pb;
-          const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
-          const double pl = lights_.lights_pdf(aimed, e.sheet, e.to_local, wl);
-          if (max_component(f) > 0.0 && pl > 0.0) {
-            Track* light_track = open();
-            SegmentEnd le;
-            co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames,
-                                       sched, le);
-            close(le, e.sheet, bounce + 1, kLightSegment);
-            L += beta * f * emission_.emission(le) / (pl + pb);
-          }
-        }
-      }
+      Aim aimed;
+      if (nee) co_await sample_light(e, mat, albedo, n, wo, bounce, lens, rng, ps, aimed, st, frames, sched);
       const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
       const BsdfSample bs = bsdf_sample(mat, albedo, n, wo, u1, u2, u3);
       if (!bs.valid) break;
-      beta *= bs.weight;
-      mis = 1.0;
-      lens_prev = lens;
+      ps.beta *= bs.weight;
+      ps.mis = 1.0;
+      ps.lens_prev = lens;
       if (lens) {
-        lens_w = bs.wi;
-        lens_pb = bs.pdf;
+        ps.lens_w = bs.wi;
+        ps.lens_pb = bs.pdf;
       } else if (nee) {
         const double pl = lights_.lights_pdf(aimed, e.sheet, e.to_local, bs.wi);
-        mis = bs.pdf / (bs.pdf + pl);
+        ps.mis = bs.pdf / (bs.pdf + pl);
       }
       if (bounce + 1 >= o_.rr_depth) {
         // Survival probability = throughput (pbrt's rule): lossless paths are never cut.
-        const double q = std::min(1.0, max_component(beta));
+        const double q = std::min(1.0, max_component(ps.beta));
         if (q < 1.0) {
           if (rng.uniform() >= q) break;
-          beta = beta / q;
+          ps.beta = ps.beta / q;
         }
       }
       x = offset(e.pos, sp.normal, n, bs.wi);
@@ -222,14 +250,15 @@ class PathTracer {
       d = bs.wi;
       skip = e.prim;
     }
+    V3 L = ps.L;
     if (!finite(L)) {
       L = {0, 0, 0};
-      error = true;
+      ps.error = true;
     }
     out.L = filter_weight == 1.0 ? L : L * filter_weight;
-    out.error = error;
-    out.steps = steps;
-    out.max_drift = max_drift;
+    out.error = ps.error;
+    out.steps = ps.steps;
+    out.max_drift = ps.max_drift;
   }
 
   // Whether the camera ray through image point (x, y) (pixel units, no jitter, no filter) first hits a
