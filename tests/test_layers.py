@@ -137,3 +137,23 @@ def test_the_python_checker_refuses_upward_imports():
     assert upward_imports("warpviz.tracing.rays", "from warpviz import __version__") == []
     assert upward_imports("warpviz", "from warpviz.viewer import view") == []
     assert upward_imports("warpviz.cli", "import warpviz") == []
+
+
+def test_no_python_module_imports_one_that_imports_it():
+    """No cycles between modules, not even through an import inside a function (the scene model once
+    imported its loader lazily while the loader imported the model)."""
+    graph = {}
+    for path in modules():
+        name = module_name(path)
+        targets = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module and node.module.startswith("warpviz"):
+                for alias in node.names:  # "from warpviz.scene import primitives" imports a module of its own
+                    sub = f"{node.module}.{alias.name}"
+                    targets.add(sub if (PACKAGE.parent / sub.replace(".", "/")).with_suffix(".py").is_file() else node.module)
+            elif isinstance(node, ast.Import):
+                targets |= {a.name for a in node.names if a.name.startswith("warpviz")}
+        graph[name] = targets - {"warpviz"}  # the package root's __version__ is read by the file writers
+    cycles = sorted((a, b) for a, targets in graph.items() for b in targets
+                    if b != a and a in graph.get(b, ()) and a < b and a != "warpviz")  # fmt: skip
+    assert not cycles, f"modules that import each other: {cycles}"

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import warpviz as wv
-from warpviz.scene import AOV_NAMES, RENDER_OPTION_KEYS, Scene, SceneError, load_scene
+from warpviz.scene import AOV_NAMES, RENDER_OPTION_KEYS, SceneError, load_scene, scene_from_dict
 from warpviz.scene.catalog import resolve_scene, shipped_scenes
 
 SHIPPED = shipped_scenes()
@@ -331,11 +331,11 @@ def test_from_dict_names_the_key_without_a_line(tmp_path):
         ],
     }
     with pytest.raises(SceneError) as info:
-        Scene.from_dict(data, base_dir=tmp_path)
+        scene_from_dict(data, base_dir=tmp_path)
     assert str(info.value) == "objects[0].outer_radius must be > 12, got 10"
     assert info.value.key == "objects[0].outer_radius" and info.value.line is None
     data["objects"][0]["inner_radius"] = 6.0
-    scene = Scene.from_dict(data, base_dir=tmp_path)
+    scene = scene_from_dict(data, base_dir=tmp_path)
     assert scene.path is None and scene.metric == wv.Schwarzschild(mass=2.0)
     disk = scene.native()["shapes"][0]
     assert disk == {"type": "disk", "center": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0], "inner_radius": 6.0,

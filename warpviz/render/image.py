@@ -97,10 +97,8 @@ class Image:
 
     @classmethod
     def open(cls, path: str | os.PathLike) -> Image:
-        """An EXR that a warpviz render wrote (:func:`warpviz.render.resume.read_exr`): radiance, AOVs and
-        the header's metadata, e.g. to look at, or to continue with ``render(resume=...)``."""
-        from warpviz.render.resume import read_exr
-
+        """An EXR that a warpviz render wrote (:func:`read_exr`): radiance, AOVs and the header's metadata,
+        e.g. to look at, or to continue with ``render(resume=...)``."""
         return read_exr(path)
 
     @property
@@ -253,3 +251,70 @@ class Image:
         }
         with OpenEXR.File(header, channels) as f:
             f.write(str(tmp))
+
+
+def read_exr(path: str | os.PathLike):
+    """An EXR that warpviz wrote, as an :class:`Image` (:meth:`Image.open`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    warpviz.render.image.Image
+        ``rgb``, every AOV channel (``name.X/Y/Z`` and ``variance.R/G/B`` put back together), the
+        header's metadata; ``completed`` from it; no ``denoised`` (a resumed render denoises again).
+
+    Raises
+    ------
+    ValueError
+        The file cannot be read as an EXR, or has no warpviz header.
+    """
+    import OpenEXR
+
+    path = Path(path)
+    try:
+        with OpenEXR.File(str(path)) as f:
+            header = dict(f.header())
+            channels = {name: np.asarray(ch.pixels) for name, ch in f.channels().items()}
+    except Exception as exc:  # noqa: BLE001 - OpenEXR raises plain exceptions for any unreadable file
+        raise ValueError(f"{str(path)!r} cannot be read as an OpenEXR image ({exc})") from None
+    text = header.get("warpviz")
+    try:
+        metadata = json.loads(text) if isinstance(text, (str, bytes)) else None
+    except json.JSONDecodeError:
+        metadata = None
+    if not isinstance(metadata, dict):
+        raise ValueError(f"{str(path)!r} has no warpviz header: it was not written by a warpviz render")
+    if "RGB" in channels:  # OpenEXR groups R, G, B into one (H, W, 3) channel
+        rgb = channels.pop("RGB")
+    else:
+        try:
+            rgb = np.stack([channels.pop(c) for c in "RGB"], axis=-1)
+        except KeyError:
+            raise ValueError(f"{str(path)!r} has no R, G, B channels") from None
+    aovs: dict[str, np.ndarray] = {}
+    groups: dict[str, dict[str, np.ndarray]] = {}
+    for name, arr in channels.items():
+        if "." in name:
+            base, part = name.rsplit(".", 1)
+            if arr.ndim == 3:  # grouped by OpenEXR: base.XYZ as one (H, W, 3) channel
+                groups.setdefault(base, {})["*"] = arr
+            else:
+                groups.setdefault(base, {})[part] = arr
+        else:
+            aovs[name] = np.asarray(arr, dtype=np.float32)
+    for base, parts in groups.items():
+        if base == "denoised":
+            continue
+        if "*" in parts:
+            aovs[base] = np.asarray(parts["*"], dtype=np.float32)
+            continue
+        order = "RGB" if set(parts) == set("RGB") else "XYZ"
+        if set(parts) != set(order):
+            continue  # not one of warpviz's (H, W, 3) AOVs
+        aovs[base] = np.stack([parts[c] for c in order], axis=-1).astype(np.float32)
+    return Image(rgb=np.asarray(rgb, dtype=np.float32), aovs=aovs, completed=bool(metadata.get("completed", True)),
+                 stats={}, metadata=metadata)  # fmt: skip

@@ -6,7 +6,7 @@ The format is described in ``docs/scene-format.md``; the dictionary handed to th
 
 Modules, by concern:
 
-* :mod:`~warpviz.scene.loader` -- :func:`load_scene`: reads the file and builds the Scene;
+* :mod:`~warpviz.scene.loader` -- :func:`load_scene`: reads the file and builds the Scene (:func:`scene_from_dict`: the same from a dict);
 * :mod:`~warpviz.scene.reader` -- :class:`SceneError` and the checks behind every message, with
   :mod:`~warpviz.scene._toml_positions` finding the line and column of a key;
 * :mod:`~warpviz.scene.model` -- :class:`Scene` and its native scene dict;
@@ -35,7 +35,7 @@ Schwarzschild(mass=2.5)
 from warpviz.scene import primitives, textures
 from warpviz.scene.camera import camera_basis, flat_camera_ray, pinhole_directions
 from warpviz.scene.catalog import looks_like_path, resolve_scene, scene_description, scene_dirs, shipped_scenes
-from warpviz.scene.loader import FORMAT_VERSION, load_scene
+from warpviz.scene.loader import FORMAT_VERSION, load_scene, scene_from_dict
 from warpviz.scene.model import DEFAULT_SIZE, RENDER_OPTION_KEYS, Scene
 from warpviz.scene.native import native_scene
 from warpviz.scene.objects import MESH_SUFFIXES
@@ -53,6 +53,7 @@ __all__ = [
     "SceneError",
     "key_name",
     "load_scene",
+    "scene_from_dict",
     "native_scene",
     "looks_like_path",
     "resolve_scene",

@@ -27,12 +27,34 @@ from warpviz.scene.objects import _objects
 from warpviz.scene.reader import SceneError, _describe, _Reader
 from warpviz.scene.settings import _camera, _metric, _outputs, _render
 
-__all__ = ["FORMAT_VERSION", "load_scene"]
+__all__ = ["FORMAT_VERSION", "load_scene", "scene_from_dict"]
 
 FORMAT_VERSION = 1
 
 #: Largest scene file read, in bytes (a scene is a few kilobytes; meshes and images are files of their own).
 MAX_SCENE_BYTES = 16 * 2**20
+
+
+def scene_from_dict(data: dict, *, base_dir: str | Path) -> Scene:
+    """Validate a parsed scene (the structure of a scene file) and load what it refers to.
+
+    Parameters
+    ----------
+    data : dict
+        As :func:`tomllib.loads` returns for a scene file (tuples may stand for lists).
+    base_dir : str or Path, keyword-only
+        Folder that relative mesh and image paths start from.
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    SceneError
+        The first problem found; the message names the key path (there are no line numbers).
+    """
+    return _build(_Reader(label=None, positions=None, base_dir=Path(base_dir)), data, path=None)
 
 
 def load_scene(path: str | Path) -> Scene:

@@ -3,12 +3,13 @@
 A Scene holds what a scene file describes with every name resolved and every image and mesh loaded;
 :meth:`Scene.native` hands the renderer the plain dictionary of ``docs/native-scene.md`` (a fresh copy
 each call, optionally in flat space or at another size), completed by :mod:`warpviz.scene.native`. Scenes are built by
-:func:`~warpviz.scene.loader.load_scene` (a TOML file) or :meth:`Scene.from_dict`.
+:func:`~warpviz.scene.loader.load_scene` (a TOML file) or :func:`~warpviz.scene.loader.scene_from_dict` (the
+same structure as a dict); this module does not import the loader (the loader imports it).
 
 Examples
 --------
->>> from warpviz.scene.model import Scene
->>> scene = Scene.from_dict({"version": 1, "metric": {"name": "schwarzschild", "mass": 1.0},
+>>> from warpviz.scene import scene_from_dict
+>>> scene = scene_from_dict({"version": 1, "metric": {"name": "schwarzschild", "mass": 1.0},
 ...                          "camera": {"position": [0, -20.0, 0]}}, base_dir=".")
 >>> scene.summary()
 'Schwarzschild(mass=1.0), 96x72, 0 shapes (0 emissive)'
@@ -25,7 +26,6 @@ from pathlib import Path
 from warpviz.limits import image_side
 from warpviz.options import SCENE_OPTIONS
 from warpviz.scene.native import native_scene
-from warpviz.scene.reader import _Reader
 from warpviz.spacetime import Metric
 
 __all__ = ["DEFAULT_SIZE", "RENDER_OPTION_KEYS", "Scene"]
@@ -40,7 +40,7 @@ DEFAULT_SIZE = (96, 72)
 class Scene:
     """A validated scene, ready to render.
 
-    Build one with :func:`load_scene` (a TOML file) or :meth:`Scene.from_dict`. All images and meshes
+    Build one with :func:`load_scene` (a TOML file) or :func:`~warpviz.scene.loader.scene_from_dict` (a dict). All images and meshes
     are loaded and all names resolved when it is built, so a Scene that exists renders.
 
     Attributes
@@ -71,31 +71,6 @@ class Scene:
     _shapes: list = field(repr=False)
     _environment: dict = field(repr=False)
     _environment_other: dict | None = field(repr=False)
-
-    # ------------------------------------------------------------------ construction
-    @classmethod
-    def from_dict(cls, data: dict, *, base_dir: str | Path) -> Scene:
-        """Validate a parsed scene (the structure of a scene file) and load what it refers to.
-
-        Parameters
-        ----------
-        data : dict
-            As :func:`tomllib.loads` returns for a scene file (tuples may stand for lists).
-        base_dir : str or Path, keyword-only
-            Folder that relative mesh and image paths start from.
-
-        Returns
-        -------
-        Scene
-
-        Raises
-        ------
-        SceneError
-            The first problem found; the message names the key path (there are no line numbers).
-        """
-        from warpviz.scene.loader import _build  # the loader builds Scenes: imported when first needed
-
-        return _build(_Reader(label=None, positions=None, base_dir=Path(base_dir)), data, path=None)
 
     # ------------------------------------------------------------------ queries
     @property
