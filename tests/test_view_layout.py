@@ -203,3 +203,25 @@ def test_rays_leaving_the_diagram_are_cut_at_its_rim_one_cell_each():
     first = np.asarray(cut.get_cell(0).points)
     assert len(first) == 3 and first[-1, 0] == 20.0  # up to the first point past the rim
     assert len(cut.get_cell(1).points) == 3
+
+
+def test_the_3d_labels_find_new_places_after_the_scene_is_turned():
+    plotter = wv.view("fig13", off_screen=True, return_plotter=True, window_size=(1400, 700), preview_width=32,
+                      spp=1)  # fmt: skip
+    try:
+        tv = plotter.teaching_view
+        r = tv._scene_renderer
+        x0 = r.GetViewport()[0] * 1400
+        for azimuth in (35.0, 80.0, 150.0):
+            r.GetActiveCamera().Azimuth(azimuth)
+            r.ResetCameraClippingRange()
+            tv._press = (int(x0 + 300), 350)  # a drag in the 3-D panel ends
+            tv._event_position = lambda: (int(x0 + 340), 360)
+            tv._on_release()
+            plotter.render()
+            labels = [(role, box) for role, box in tv.text_boxes() if role == "label3d"]
+            assert len(labels) >= 3 and overlapping(labels) == [], (azimuth, labels)
+            for _, (lo, hi, _, _) in labels:
+                assert lo >= x0 - 1 and hi <= 1401
+    finally:
+        plotter.close()

@@ -92,6 +92,9 @@ class Events:
         elif self._image_renderer is not None and self._image_renderer.IsInViewport(x0, y0):
             self._unrotate_image()
             self.plotter.render()
+        elif self._scene_renderer.IsInViewport(x0, y0):  # the scene turned: its labels find their places again
+            self._justify_labels()
+            self.plotter.render()
 
     def _on_char(self, style, *_) -> None:
         """Replaces the interactor style's key handling (VTK calls an observer of CharEvent instead of
