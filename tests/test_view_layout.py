@@ -15,24 +15,16 @@ from warpviz.viewer.image_marks import angle_ticks, edge_circle  # noqa: E402
 from warpviz.viewer.layout import FONT_PX, font_px, overlapping, text_scale  # noqa: E402
 from warpviz.viewer.meshes import _cut_lines_at  # noqa: E402
 
+from view_scenes import lensing_scene  # noqa: E402
+
 #: Font heights (pixels) the view used at 1400x700 before text was sized from the window.
 #: (The caption was the scalar bar's title at font size 11, which VTK shrank to fit: about 10 px drawn.)
 OLD_FONT_PX = {"title": 9, "status": 9, "label": 10, "label3d": 11, "legend": 7, "axes": 8, "caption": 10, "bar": 10}
 
 
 def hole_scene(metric=None, width=48, height=32):
-    """A hole in front of a glowing grid wall, camera at 25 M on the -y axis looking at the hole."""
-    return {
-        "metric": metric or {"name": "schwarzschild", "params": [1.0]},
-        "camera": {"position": [0.0, -25.0, 0.0], "look_at": [0.0, 0.0, 0.0], "up": [0, 0, 1], "fov": 50.0,
-                   "width": width, "height": height},
-        "textures": [{"type": "grid", "base": [0.02, 0.03, 0.08], "line_u": [1.0, 0.75, 0.3],
-                      "line_v": [0.35, 0.7, 1.0], "cells": [16, 8], "width": 0.08}],
-        "materials": [{"type": "emissive", "texture": 0, "strength": 1.0, "two_sided": True}],
-        "shapes": [{"type": "quad", "corner": [-40.0, 15.0, -20.0], "edge_u": [80.0, 0.0, 0.0],
-                    "edge_v": [0.0, 0.0, 40.0], "material": 0}],
-        "environment": {"color": [0.05, 0.05, 0.05]},
-    }  # fmt: skip
+    """The viewer tests' hole before a glowing grid wall, at the size these tests use."""
+    return lensing_scene(width, height, metric)
 
 
 def display_point(renderer, point):

@@ -32,6 +32,8 @@ from warpviz.viewer.picking import (  # noqa: E402
 )
 from warpviz.viewer.view_content import camera_from_frustum, flat_impact_parameters, view_content  # noqa: E402
 
+from view_scenes import lensing_scene  # noqa: E402
+
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 CACHE = Path(__file__).parent / "data" / "viewer_cache"
 UPDATE_CACHE = os.environ.get("WARPVIZ_UPDATE_IMAGE_CACHE") == "1"
@@ -42,21 +44,6 @@ SELECTED = (16, 12)  # just left of the shadow: its camera ray is bent strongly
 WINDOW = (800, 400)
 LIME = (0, 255, 0)  # the flat-space ray
 MAGENTA = (255, 0, 255)  # the selected pixel's outline and rays
-
-
-def lensing_scene(width=WIDTH, height=HEIGHT):
-    """A Schwarzschild hole in front of a glowing grid, camera 25 M away on the y axis."""
-    return {
-        "metric": {"name": "schwarzschild", "params": [1.0]},
-        "camera": {"position": [0.0, -25.0, 0.0], "look_at": [0.0, 0.0, 0.0], "up": [0, 0, 1], "fov": 50.0,
-                   "width": width, "height": height},
-        "textures": [{"type": "grid", "base": [0.02, 0.03, 0.08], "line_u": [1.0, 0.75, 0.3],
-                      "line_v": [0.35, 0.7, 1.0], "cells": [16, 8], "width": 0.08}],
-        "materials": [{"type": "emissive", "texture": 0, "strength": 1.0, "two_sided": True}],
-        "shapes": [{"type": "quad", "corner": [-40.0, 15.0, -20.0], "edge_u": [80.0, 0.0, 0.0],
-                    "edge_v": [0.0, 0.0, 40.0], "material": 0}],
-        "environment": {"color": [0.0, 0.0, 0.0]},
-    }  # fmt: skip
 
 
 @pytest.fixture(scope="module")

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:  # pragma: no cover
     import pyvista as pv
 
-__all__ = ["atomic_write", "check_writable", "read_rays", "software", "write_png", "write_vtm", "write_vtp", "written_by_warpviz"]
+__all__ = ["atomic_write", "check_writable", "name_length_problem", "read_rays", "software", "write_png", "write_vtm", "write_vtp", "written_by_warpviz"]
 
 #: The PNG text key and EXR header attribute that name the program that wrote a file.
 SOFTWARE_KEY = "Software"
@@ -148,6 +148,19 @@ def _fsync(path: Path) -> None:
         os.close(fd)
 
 
+def name_length_problem(path: str | os.PathLike) -> str | None:
+    """``"file name too long (N bytes; the file system allows M)"`` where ``path``'s last part is longer than
+    its folder's file system allows (255 bytes where that cannot be asked), else None. It looks only at the
+    folder, so it may be asked before anything else about ``path`` (which such a name makes fail)."""
+    path = Path(path)
+    name = len(os.fsencode(path.name))
+    try:
+        most = os.pathconf(path.parent if path.parent.is_dir() else ".", "PC_NAME_MAX")
+    except (OSError, ValueError):
+        most = 255
+    return f"file name too long ({name} bytes; the file system allows {most})" if name > most else None
+
+
 def check_writable(path: str | os.PathLike) -> Path:
     """Check, before the work that produces it, that :func:`atomic_write` will be able to write ``path``:
     its staging folder and a file of ``path``'s name in it are created and removed again (``path``
@@ -170,13 +183,9 @@ def check_writable(path: str | os.PathLike) -> Path:
         for a missing folder or a folder given as the file).
     """
     path = Path(path)
-    name = len(os.fsencode(path.name))
-    try:
-        most = os.pathconf(path.parent if path.parent.is_dir() else ".", "PC_NAME_MAX")
-    except (OSError, ValueError):
-        most = 255
-    if name > most:
-        raise OSError(errno.ENAMETOOLONG, f"file name too long ({name} bytes; the file system allows {most})")
+    problem = name_length_problem(path)
+    if problem:
+        raise OSError(errno.ENAMETOOLONG, problem)
     path = _writable(path)
     try:
         with _staging(path) as stage:

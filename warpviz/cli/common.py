@@ -28,7 +28,7 @@ from rich.progress import (
 )
 from rich.text import Text
 
-from warpviz.io import check_writable, written_by_warpviz
+from warpviz.io import check_writable, name_length_problem, written_by_warpviz
 from warpviz.limits import MAX_IMAGE_SIDE, TONEMAP_NAMES, exposure_stops
 from warpviz.render.denoise import DenoiserMissing
 from warpviz.render.render import OPTIONAL_AOVS
@@ -198,9 +198,9 @@ def _output_path(path: Path, suffixes: tuple[str, ...], *, force: bool = False, 
     what = "the scene's [outputs] file" if scene is not None else "output"
     if path.suffix.lower() not in suffixes:
         _fail(f"{what} {str(path)!r} must end in {' or '.join(suffixes)}", EXIT_BAD_INPUT)
-    if len(os.fsencode(path.name)) > 255:  # before any look at the file system, which would fail on it
-        _fail(f"cannot write {what} {str(path)!r}: file name too long ({len(os.fsencode(path.name))} bytes; "
-              "255 bytes is the most file systems allow)", EXIT_BAD_INPUT)  # fmt: skip
+    too_long = name_length_problem(path)  # before any other look at the file system, which would fail on it
+    if too_long:
+        _fail(f"cannot write {what} {str(path)!r}: {too_long}", EXIT_BAD_INPUT)
     if scene is not None:
         where = [Path.cwd().resolve()] + ([scene.path.parent.resolve()] if scene.path is not None else [])
         full = (Path.cwd() / path).resolve()

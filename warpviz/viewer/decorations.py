@@ -10,9 +10,9 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from warpviz.viewer.layout import add_text, font_px
+from warpviz.viewer.layout import add_text, font_px, text_box
 
-__all__ = ["bar_range", "draw_legend", "legend_rows", "round_axes"]
+__all__ = ["bar_range", "decimals", "draw_legend", "legend_rows", "round_axes"]
 
 #: The swatch drawn before each legend label (VTK's font has no box glyph; a bold dash line shows a colour).
 SWATCH = "\u2014\u2014"
@@ -105,6 +105,18 @@ def bar_range(lo: float, hi: float, *, include: Sequence[float] = (), most: int 
     return best[0] + 0.0, best[1] + 0.0, best[2]
 
 
+def decimals(step: float) -> int:
+    """Digits after the point shown on labels ``step`` apart: those of the step's leading digit (0 for 5 or
+    20, 1 for 0.5 or 0.2, 2 for 0.05), as the axes and the colour bar print them.
+
+    Examples
+    --------
+    >>> decimals(20.0), decimals(0.5), decimals(0.05)
+    (0, 1, 2)
+    """
+    return max(0, -math.floor(math.log10(step) + 1e-9)) if step > 0 else 0
+
+
 def legend_rows(entries: Sequence[tuple[str, str]], scale: float, width_px: float) -> list[list[int]]:
     """The legend's entries flowed into rows no wider than ``width_px`` (indices into ``entries``), as
     :func:`draw_legend` lays them out."""
@@ -149,8 +161,6 @@ def draw_legend(renderer, entries: Sequence[tuple[str, str]], *, scale: float, p
     list of vtkTextActor
         Swatches and labels, in pairs.
     """
-    from warpviz.viewer.layout import text_box
-
     size = font_px("legend", scale)
     width, height = panel_px
     margin, gap = 8.0, 1.2 * size

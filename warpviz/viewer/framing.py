@@ -11,7 +11,7 @@ import numpy as np
 
 from warpviz.scene import camera_basis
 from warpviz.viewer.annotations import legend_entries, length_unit
-from warpviz.viewer.decorations import legend_rows, round_axes
+from warpviz.viewer.decorations import decimals, legend_rows, round_axes
 from warpviz.viewer.layout import BAR_BOX, font_px, line_px, place_beside, wrap
 
 __all__ = ["Framing"]
@@ -32,7 +32,7 @@ class Framing:
         spans = [b - a for a, b in zip(bounds[0::2], bounds[1::2])]
         step = min((span / max(1, n - 1) for span, n in zip(spans, counts) if span >= 0.1 * max(spans)),
                    default=1.0)  # a thin axis (a fan in a plane) does not set the digits
-        digits = max(0, -math.floor(math.log10(step) + 1e-9)) if step > 0 else 0
+        digits = decimals(step)
         p.show_bounds(bounds=bounds, xtitle=titles[0], ytitle=titles[1], ztitle=titles[2], location="outer",
                       ticks="outside", font_size=font_px("axes", self._scale), fmt=f"%.{digits}f", grid=False,
                       use_3d_text=False, n_xlabels=counts[0], n_ylabels=counts[1], n_zlabels=counts[2])
@@ -55,10 +55,13 @@ class Framing:
         self._set_3d_camera()
         self.plotter.render()
 
+    def _wrap_title(self, text: str) -> str:
+        """The 3-D panel's title broken into lines that fit the panel."""
+        return wrap(text, self._panel_px(self._scene_renderer)[0] - 20, font_px("title", self._scale))
+
     def set_title(self, text: str) -> None:
         """Replace the 3-D panel's title (wrapped to the panel); the legend and the framing make room."""
-        panel_w, _ = self._panel_px(self._scene_renderer)
-        self.title_text = wrap(str(text), panel_w - 20, font_px("title", self._scale))
+        self.title_text = self._wrap_title(str(text))
         renderer, actor = self._text_actors["title"][-1]
         actor.SetInput(self.title_text)
         self.legend = []  # drawn again under the new title

@@ -33,7 +33,7 @@ from warpviz.viewer.annotations import (
     visible_ray_ids,
 )
 from warpviz.viewer.callbacks import KEYS_HELP
-from warpviz.viewer.decorations import bar_range, draw_legend
+from warpviz.viewer.decorations import bar_range, decimals, draw_legend
 from warpviz.viewer.events import Events
 from warpviz.viewer.framing import Framing
 from warpviz.viewer.image_panel import ImagePanel
@@ -337,7 +337,7 @@ class TeachingView(ImagePanel, Framing, Events):
                            background="#c8c8c8", valign="centered")  # fmt: skip
         renderer = self._scene_renderer
         panel_w, panel_h = self._panel_px(renderer)
-        self.title_text = wrap(view_title(self.title, self.metric), panel_w - 20, font_px("title", self._scale))
+        self.title_text = self._wrap_title(view_title(self.title, self.metric))
         self._text(renderer, "title", self.title_text, x=0.012, y=0.988)
         if self._image_renderer is None:  # one panel: the status lines go under the title
             lines = self.title_text.count("\n") + 1
@@ -394,7 +394,7 @@ class TeachingView(ImagePanel, Framing, Events):
         self._rays_color = to_hex(colormaps[_RAYS_CMAP](min(1.0, max(0.0, (middle - lo) / (hi - lo)))))
         x, y, width, height = BAR_BOX
         step = (hi - lo) / max(1, n_labels - 1)
-        digits = max(0, -math.floor(math.log10(step) + 1e-9)) if step > 0 else 0
+        digits = decimals(step)
         self._rays_actor = p.add_mesh(
             mesh, scalars=array, cmap=_RAYS_CMAP, clim=(lo, hi), line_width=2, lighting=False, name="rays",
             reset_camera=False,
