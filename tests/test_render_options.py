@@ -109,3 +109,19 @@ def test_the_flags_help_comes_from_the_table():
     assert "In [1, 64]. Default: 8 (or the scene's [render] edge_samples)." in text
     assert "One of 'lens', 'aimed'. Default: 'lens'" in text
     assert not math.isnan(DEFAULT_OPTIONS["tol"])
+
+
+def test_flags_that_render_and_trace_share_are_one_definition():
+    """A flag both commands take reads the same: same name, default, range and help (cli/flags.py)."""
+    import typer.main
+
+    from warpviz.cli import app
+
+    commands = typer.main.get_command(app).commands
+    params = {name: {p.name: p for p in commands[name].params} for name in ("render", "trace")}
+    shared = set(params["render"]) & set(params["trace"]) - {"scene", "output", "spp"}  # these differ on purpose
+    assert {"size", "threads", "seed", "flat", "paper", "exposure", "tonemap", "force", "quiet"} <= shared
+    for name in shared:
+        a, b = params["render"][name], params["trace"][name]
+        facts = lambda p: (p.opts, p.default, p.help, p.min, p.max)  # noqa: E731
+        assert facts(a) == facts(b), name

@@ -11,8 +11,9 @@ traceback, and nothing is written); 3 the render finished but more of its sample
 and 143 stopped by SIGTERM (``render`` and ``trace`` first save the partial image). Set
 ``WARPVIZ_DEBUG=1`` to see tracebacks of runtime errors.
 
-One module per command (``render``, ``trace``, ...); :mod:`~warpviz.cli.common` holds what they share
-and :mod:`~warpviz.cli.app` the typer application they register with.
+One module per command (``render``, ``trace``, ...); :mod:`~warpviz.cli.common` holds what they share,
+:mod:`~warpviz.cli.flags` the flags several commands take (each defined once) and :mod:`~warpviz.cli.app`
+the typer application they register with.
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ import numpy as np
 import typer
 from rich.text import Text
 
-from warpviz.cli import common
+from warpviz.cli import common, flags
 from warpviz.cli.app import app
 from warpviz.cli.common import (
     EXIT_BAD_INPUT,
@@ -28,7 +28,6 @@ from warpviz.cli.common import (
     _look,
     _output_path,
     _parse_crop,
-    _parse_size,
     _render_scene,
     _samples_summary,
     _stop_code,
@@ -37,10 +36,7 @@ from warpviz.cli.common import (
     err,
 )
 from warpviz.limits import (
-    EXPOSURE_RANGE,
     MAX_EDGE_SAMPLES,
-    MAX_IMAGE_SIDE,
-    MAX_SEED,
     MAX_SPP,
     duration_seconds,
     noise_level,
@@ -82,19 +78,17 @@ def render(
         "naming what differs). Without -o the EXR itself is updated. The result equals one render of the total "
         "samples to float32 rounding.",
     ),  # fmt: skip
-    size: Optional[str] = typer.Option(
-        None, "--size", callback=_parse_size, help=f"Image size WIDTHxHEIGHT, e.g. 320x240 (each at most {MAX_IMAGE_SIDE})."
-    ),
+    size: Optional[str] = flags.SIZE,
     crop: Optional[str] = typer.Option(
         None, "--crop", callback=_parse_crop,
         help="Render only the window X,Y,WIDTHxHEIGHT of the image (top-left pixel and size), e.g. "
         "0,0,640x480. Windows that tile the image hold exactly its pixels: a way to render an image "
         "larger than memory in parts.",
     ),  # fmt: skip
-    threads: int = typer.Option(0, "--threads", min=0, help="Worker threads; 0 uses every core."),
-    seed: Optional[int] = typer.Option(None, "--seed", min=0, max=MAX_SEED, help=option_help("seed")),
-    flat: bool = typer.Option(False, "--flat", help="Render the same scene in flat space, for comparison."),
-    paper: bool = typer.Option(False, "--paper", help="Use the scene's [render.paper] size and sample count."),
+    threads: int = flags.THREADS,
+    seed: Optional[int] = flags.SEED,
+    flat: bool = flags.FLAT,
+    paper: bool = flags.PAPER,
     no_light_sampling: bool = typer.Option(
         False, "--no-light-sampling", help="Brute-force path tracing: light_sampling off. " + option_help("light_sampling")
     ),
@@ -107,17 +101,8 @@ def render(
         help="Exit with code 3 when more than this fraction of the samples failed (a geodesic ran out of "
         "steps, broke a conservation law or became nan); the image is still written.",
     ),  # fmt: skip
-    exposure: Optional[float] = typer.Option(
-        None, "--exposure",
-        help=f"PNG only: exposure in stops, the radiance times 2**S before tonemapping, in "
-        f"[{EXPOSURE_RANGE[0]:g}, {EXPOSURE_RANGE[1]:g}] (default: the scene's [outputs] exposure, else 0).",
-    ),  # fmt: skip
-    tonemap: Optional[str] = typer.Option(
-        None, "--tonemap",
-        help="PNG only: 'filmic' (default: hue-preserving shoulder, saturated lights keep their colour), 'clip' "
-        "(each channel clamped to 1) or 'reinhard' (x / (1 + x) per channel). Default: the scene's [outputs] "
-        "tonemap, else filmic.",
-    ),  # fmt: skip
+    exposure: Optional[float] = flags.EXPOSURE,
+    tonemap: Optional[str] = flags.TONEMAP,
     denoise: bool = typer.Option(
         False, "--denoise",
         help="Denoise with Intel Open Image Denoise (pip install 'warpviz[denoise]'), fed with the albedo and "
@@ -129,8 +114,8 @@ def render(
         help=f"Write a false-colour PNG of this AOV ({', '.join(FALSE_COLOUR_STYLES)}) with a colour bar "
         "naming the quantity and its range, instead of the tonemapped picture.",
     ),  # fmt: skip
-    force: bool = typer.Option(False, "--force", help="Replace an existing output file that warpviz did not write."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
+    force: bool = flags.FORCE,
+    quiet: bool = flags.QUIET,
 ) -> None:
     """Render a scene to a PNG or EXR image.
 

@@ -10,7 +10,7 @@ import numpy as np
 import typer
 from rich.text import Text
 
-from warpviz.cli import common
+from warpviz.cli import common, flags
 from warpviz.cli.app import app
 from warpviz.cli.common import (
     EXIT_BAD_INPUT,
@@ -24,7 +24,6 @@ from warpviz.cli.common import (
     _look,
     _output_path,
     _parse_pixels,
-    _parse_size,
     _render_scene,
     _samples_summary,
     _stop_code,
@@ -32,8 +31,7 @@ from warpviz.cli.common import (
     _stoppable,
     err,
 )
-from warpviz.limits import MAX_SEED, MAX_SPP
-from warpviz.options import option_help
+from warpviz.limits import MAX_SPP
 from warpviz.scene import load_scene
 
 
@@ -49,15 +47,15 @@ def trace(
     ),
     image: Optional[Path] = typer.Option(None, "--image", help="Also save the rendered image (.png or .exr)."),
     spp: Optional[int] = typer.Option(None, "--spp", min=1, max=MAX_SPP, help="Samples per pixel (default: the scene's)."),
-    size: Optional[str] = typer.Option(None, "--size", callback=_parse_size, help="Image size WIDTHxHEIGHT."),
-    threads: int = typer.Option(0, "--threads", min=0, help="Worker threads; 0 uses every core."),
-    seed: Optional[int] = typer.Option(None, "--seed", min=0, max=MAX_SEED, help=option_help("seed")),
-    flat: bool = typer.Option(False, "--flat", help="Flat space instead of the scene's metric."),
-    paper: bool = typer.Option(False, "--paper", help="Use the scene's [render.paper] settings."),
-    exposure: Optional[float] = typer.Option(None, "--exposure", help="PNG --image only: exposure in stops (see render)."),
-    tonemap: Optional[str] = typer.Option(None, "--tonemap", help="PNG --image only: filmic, clip or reinhard (see render)."),
-    force: bool = typer.Option(False, "--force", help="Replace existing output files that warpviz did not write."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
+    size: Optional[str] = flags.SIZE,
+    threads: int = flags.THREADS,
+    seed: Optional[int] = flags.SEED,
+    flat: bool = flags.FLAT,
+    paper: bool = flags.PAPER,
+    exposure: Optional[float] = flags.EXPOSURE,
+    tonemap: Optional[str] = flags.TONEMAP,
+    force: bool = flags.FORCE,
+    quiet: bool = flags.QUIET,
 ) -> None:
     """Render a scene and save the sampled light paths of chosen pixels as a .vtp file."""
     with _guard(), _stoppable():
