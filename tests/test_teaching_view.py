@@ -294,7 +294,7 @@ def test_wormhole_view_draws_the_objects_on_the_other_side():
         z = np.asarray(shown.points)[:, 2]
         # the far sphere sits on the lower (other) sheet of the diagram, the near one on ours
         assert z.min() < -1.0 and z.max() > 1.0
-        expected = wv.ellis_embedding_points(wv.EllisWormhole(throat=1.0), [[0.0, 10.0, 0.0]], [-1])[0, 2]
+        expected = wv.wormhole_embedding_points(wv.EllisWormhole(throat=1.0), [[0.0, 10.0, 0.0]], [-1])[0, 2]
         assert abs(z.min() - expected) < 1.0
         labels = [label for label, _ in tv.legend]
         assert labels[:3] == ["our sheet", "other sheet", "throat"]

@@ -393,7 +393,7 @@ def test_ellis_rays_are_drawn_on_the_embedding_diagram():
     plotter = wv.view(rays, off_screen=True, return_plotter=True, window_size=WINDOW)
     try:
         tv = plotter.teaching_view
-        expected = wv.ellis_embedding_points(metric, rays.points, rays.point_data["sheet"])
+        expected = wv.wormhole_embedding_points(metric, rays.points, rays.point_data["sheet"])
         np.testing.assert_allclose(tv.shown_rays.points, expected)
         assert tv.shown_rays.points[:, 2].min() < -1.0 and tv.shown_rays.points[:, 2].max() > 1.0  # both sheets
         assert {"embedding", "waist", "rays"} <= set(plotter.renderer.actors)

@@ -340,7 +340,7 @@ def test_kerr_photon_region_spans_the_equatorial_orbits_and_meets_at_the_polar_o
 def test_ellis_throat_and_embedding_have_both_sheets():
     wh = wv.EllisWormhole(throat=2.0)
     np.testing.assert_allclose(np.linalg.norm(wv.throat_surface(wh).points, axis=1), 2.0, rtol=1e-14)
-    emb = wv.ellis_embedding(wh, l_max=6.0, resolution=16)
+    emb = wv.wormhole_embedding(wh, l_max=6.0, resolution=16)
     x, y, z = emb.points.T
     np.testing.assert_allclose(np.hypot(x, y), 2.0 * np.cosh(z / 2.0), rtol=1e-13)
     sheet, ell = emb.point_data["sheet"], emb.point_data["l"]
@@ -355,13 +355,13 @@ def test_ellis_throat_and_embedding_have_both_sheets():
         wv.horizon_surface(wh)
 
 
-def test_ellis_embedding_points_keep_distance_and_sheet():
-    out = wv.ellis_embedding_points(ELLIS, [[3.0, 4.0, 0.0], [0.0, 0.0, 1.0], [0.0, 2.0, 0.0]], [-1, 1, 1])
+def test_wormhole_embedding_points_keep_distance_and_sheet():
+    out = wv.wormhole_embedding_points(ELLIS, [[3.0, 4.0, 0.0], [0.0, 0.0, 1.0], [0.0, 2.0, 0.0]], [-1, 1, 1])
     np.testing.assert_allclose(out[0], [3.0, 4.0, -math.asinh(math.sqrt(24.0))], rtol=1e-14)
     np.testing.assert_allclose(out[1], [1.0, 0.0, 0.0], atol=1e-15)  # on the throat, azimuth 0 on the axis
     np.testing.assert_allclose(out[2], [0.0, 2.0, math.asinh(math.sqrt(3.0))], atol=1e-15)
     with pytest.raises(ValueError, match="one entry per point"):
-        wv.ellis_embedding_points(ELLIS, [[1.0, 0, 0]], [1, 1])
+        wv.wormhole_embedding_points(ELLIS, [[1.0, 0, 0]], [1, 1])
 
 
 # --------------------------------------------------------------------------------------------------

@@ -1,10 +1,10 @@
 """warpviz: render and explain light in curved spacetime.
 
-The C++ core traces null geodesics of Minkowski, Schwarzschild, Kerr and Ellis-wormhole spacetimes
-(:func:`trace`, returning :class:`RayBundle` objects) and path-traces scenes whose light rays are those
-geodesics (:func:`render`, returning an :class:`Image`). Scenes come from TOML files
-(:func:`load_scene`); rays and scenes export to VTK files and show in a PyVista teaching view
-(:func:`view`).
+The C++ core traces null geodesics of every spacetime in its registry (:func:`registered_metrics`: black
+holes, a wormhole, flat space; each a class here) with :func:`trace`, returning :class:`RayBundle`
+objects, and path-traces scenes whose light rays are those geodesics with :func:`render`, returning an
+:class:`Image`. Scenes come from TOML files (:func:`load_scene`); rays and scenes export to VTK files and
+show in a PyVista teaching view (:func:`view`).
 
 The package is layered by concern, each subpackage importing only those below it:
 :mod:`warpviz.spacetime` (metrics and their landmarks) < :mod:`warpviz.tracing` (:func:`trace`,
@@ -31,8 +31,6 @@ from warpviz.spacetime import (
     Metric,
     Minkowski,
     Schwarzschild,
-    ellis_embedding,
-    ellis_embedding_points,
     ergosphere_surface,
     horizon_surface,
     metric_class,
@@ -41,6 +39,8 @@ from warpviz.spacetime import (
     metric_from_params,
     photon_sphere,
     throat_surface,
+    wormhole_embedding,
+    wormhole_embedding_points,
 )
 from warpviz.tracing import STEPPERS, RayBundle, RayStatus, trace
 from warpviz.viewer import view
@@ -78,8 +78,8 @@ __all__ = [
     "write_vtm",
     "write_vtp",
     "camera_frustum",
-    "ellis_embedding",
-    "ellis_embedding_points",
+    "wormhole_embedding",
+    "wormhole_embedding_points",
     "ergosphere_surface",
     "horizon_surface",
     "metric_features",

@@ -448,16 +448,32 @@ nb::dict landmarks(const std::string& metric, const std::vector<double>& params)
   return d;
 }
 
+// A static spherical metric's lens-map functions (spacetime/lens_map.h): the coefficients of A(u) and h(u)
+// in u = 1 / R, the innermost 1 / R its rays approach and whether that sphere is a throat; None for others.
+nb::object spherical_lens(const std::string& metric, const std::vector<double>& params) {
+  wv::SphericalLens s;
+  if (!wv::make_spacetime(metric, params)->spherical_lens(s)) return nb::none();
+  nb::dict d;
+  d["a"] = std::vector<double>(s.a, s.a + wv::SphericalLens::kMaxCoef);
+  d["h"] = std::vector<double>(s.h, s.h + wv::SphericalLens::kMaxCoef);
+  d["u_inner"] = s.u_inner;
+  d["throat"] = s.throat;
+  return d;
+}
+
 }  // namespace
 
 NB_MODULE(_core, m) {
-  m.doc() = "warpviz native core: null geodesics of Minkowski, Schwarzschild, Kerr and Ellis spacetimes";
+  m.doc() = "warpviz native core: null geodesics of the spacetimes registered in renderer_ext/metrics/";
   m.def("metrics", &metrics, "Registered metrics and their facts (engine/registry.h).");
   m.def("status_names", []() {
     std::vector<std::string> names(wv::kStatusNames, wv::kStatusNames + wv::kNumStatuses);
     return names;
   }, "How a ray can end, by status code (spacetime/geodesic.h).");
   m.def("landmarks", &landmarks, "metric"_a, "params"_a, "Landmark radii of a metric (spacetime/landmarks.h).");
+  m.def("spherical_lens", &spherical_lens, "metric"_a, "params"_a,
+        "A static spherical metric's A(u) and h(u) coefficients, u_inner and throat flag "
+        "(spacetime/lens_map.h); None for the others.");
   m.def(
       "params_problem",
       [](const std::string& metric, const std::vector<double>& params) {

@@ -20,11 +20,11 @@ import numpy as np
 from warpviz.scene import camera_frustum, scene_surfaces
 from warpviz.spacetime import (
     Metric,
-    ellis_embedding_points,
     metric_features,
     metric_from_dict,
     metric_from_params,
     metric_names,
+    wormhole_embedding_points,
 )
 from warpviz.tracing import RayBundle
 
@@ -77,8 +77,8 @@ def scene_multiblock(
         Blocks in the order of :data:`BLOCK_NAMES`, only those that apply: ``rays`` (polylines),
         ``surfaces`` (scene shapes with a ``material`` cell array), the landmarks of
         :func:`warpviz.metric_features` (``horizon``, ``ergosphere``, ``photon_sphere``;
-        ``throat``, ``embedding``), ``embedding_rays`` (Ellis only: the rays mapped onto the
-        embedding diagram with :func:`warpviz.ellis_embedding_points`) and ``camera`` (the frustum
+        ``throat``, ``embedding``), ``embedding_rays`` (a static spherical wormhole only: the rays mapped onto the
+        embedding diagram with :func:`warpviz.wormhole_embedding_points`) and ``camera`` (the frustum
         of :func:`warpviz.camera_frustum`).
 
     Raises
@@ -108,7 +108,7 @@ def scene_multiblock(
         blocks.update(metric_features(the_metric, resolution=resolution))
     if the_metric is not None and "embedding" in blocks and "rays" in blocks and "sheet" in blocks["rays"].point_data:
         embedded = blocks["rays"].copy()
-        embedded.points = ellis_embedding_points(the_metric, embedded.points, embedded.point_data["sheet"])
+        embedded.points = wormhole_embedding_points(the_metric, embedded.points, embedded.point_data["sheet"])
         blocks["embedding_rays"] = embedded
     if native_scene is not None and native_scene.get("camera") is not None:
         blocks["camera"] = camera_frustum(native_scene["camera"])

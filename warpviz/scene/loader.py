@@ -25,7 +25,7 @@ from warpviz.scene.catalog import resolve_scene
 from warpviz.scene.model import Scene
 from warpviz.scene.objects import _objects
 from warpviz.scene.reader import SceneError, _describe, _Reader
-from warpviz.scene.settings import _camera, _metric, _outputs, _render
+from warpviz.scene.settings import _camera, _metric, _outputs, _render, wormhole_hint
 
 __all__ = ["FORMAT_VERSION", "load_scene", "scene_from_dict"]
 
@@ -124,19 +124,19 @@ def _build(r: _Reader, data: dict, *, path: Path | None) -> Scene:
         raise r.error(("version",), why)
     description = r.string(data, (), "description", "")
     metric = _metric(r, r.get(data, (), "metric"))
-    ellis = metric.sheets == 2  # a wormhole: objects, camera and sky may be on its other sheet
+    two_sheets = metric.sheets == 2  # a wormhole: objects, camera and sky may be on its other sheet
     camera = _camera(r, r.get(data, (), "camera"), metric)
     render, paper = _render(r, data.get("render", {}))
     environment = _environment(r, ("environment",), data.get("environment", {}))
     environment_other = None
     if "environment_other" in data:
-        if not ellis:
+        if not two_sheets:
             raise r.error(("environment_other",), "[environment_other] is the sky of a wormhole's other sheet; "
-                          f"it needs metric.name = 'ellis', not {metric.name!r}", at_value=False)  # fmt: skip
+                          f"it needs {wormhole_hint()}, not {metric.name!r}", at_value=False)  # fmt: skip
         environment_other = _environment(r, ("environment_other",), data["environment_other"])
     tex_list, tex_index = _textures(r, data.get("textures", {}))
     mat_list, mat_index = _materials(r, data.get("materials", {}), tex_list, tex_index)
-    shapes = _objects(r, data.get("objects", []), mat_index, ellis=ellis)
+    shapes = _objects(r, data.get("objects", []), mat_index, two_sheets=two_sheets)
     outputs = _outputs(r, data.get("outputs", {}))
     return Scene(
         path=path, description=description.strip(), metric=metric, camera=camera, outputs=outputs,

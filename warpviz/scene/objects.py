@@ -32,7 +32,7 @@ _COMMON_OBJECT_KEYS = ("shape", "material", "sheet", "name")
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".glb", ".gltf", ".off")
 
 
-def _objects(r: _Reader, objs: Any, mat_index: dict, *, ellis: bool) -> list[dict]:
+def _objects(r: _Reader, objs: Any, mat_index: dict, *, two_sheets: bool) -> list[dict]:
     if not isinstance(objs, list):
         raise r.error(("objects",), f"objects must be an array of [[objects]] tables, got {_describe(objs)}")
     shapes = []
@@ -46,7 +46,7 @@ def _objects(r: _Reader, objs: Any, mat_index: dict, *, ellis: bool) -> list[dic
         material = r.reference(o, op, "material", mat_index, "material")
         if "name" in o:
             r.string(o, op, "name")
-        common = {"material": material, "sheet": _sheet(r, o, op, ellis=ellis)}
+        common = {"material": material, "sheet": _sheet(r, o, op, two_sheets=two_sheets)}
         for shape in _shape(r, op, kind, o):
             shapes.append({**shape, **common})
     return shapes

@@ -19,7 +19,7 @@ from warpviz.options import DEFAULT_OPTIONS, RENDER_OPTIONS
 from warpviz._native import core, registered_metrics
 from warpviz.scene.native import SCHEMA
 from warpviz.scene.reader import _describe, _Reader, did_you_mean, key_name
-from warpviz.spacetime import Metric, metric_from_dict
+from warpviz.spacetime import Metric, metric_from_dict, metric_names
 
 
 __all__ = ["AOV_NAMES"]
@@ -61,7 +61,7 @@ def _camera(r: _Reader, tbl: Any, metric: Metric) -> dict:
         "look_at": r.vec3(tbl, path, "look_at", [0.0, 0.0, 0.0]),
         "up": r.vec3(tbl, path, "up", native["up"], nonzero=True),
         "fov": r.real(tbl, path, "fov", native["fov"], lo=0.0, hi=180.0),
-        "sheet": _sheet(r, tbl, path, ellis=metric.sheets == 2),
+        "sheet": _sheet(r, tbl, path, two_sheets=metric.sheets == 2),
     }
     forward = np.subtract(cam["look_at"], cam["position"])
     if not np.linalg.norm(forward) > 0:
@@ -76,13 +76,18 @@ def _camera(r: _Reader, tbl: Any, metric: Metric) -> dict:
     return cam
 
 
-def _sheet(r: _Reader, tbl: dict, path: tuple, *, ellis: bool) -> int:
+def wormhole_hint() -> str:
+    """``metric.name = 'ellis'`` (or each registered wormhole's name): what a key of the other sheet needs."""
+    return "metric.name = " + " or ".join(repr(n) for n in metric_names(sheets=2))
+
+
+def _sheet(r: _Reader, tbl: dict, path: tuple, *, two_sheets: bool) -> int:
     sheet = r.integer(tbl, path, "sheet", SCHEMA["camera"]["sheet"])  # a shape's default sheet is the same
     if sheet not in (1, -1):
         raise r.error(path + ("sheet",), f"{key_name(path + ('sheet',))} must be 1 or -1, got {sheet}")
-    if sheet == -1 and not ellis:
+    if sheet == -1 and not two_sheets:
         kp = path + ("sheet",)
-        why = "needs a wormhole (metric.name = 'ellis'); other spacetimes have one sheet"
+        why = f"needs a wormhole ({wormhole_hint()}); other spacetimes have one sheet"
         raise r.error(kp, f"{key_name(kp)} = -1 {why}")
     return sheet
 

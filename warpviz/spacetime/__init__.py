@@ -2,8 +2,9 @@
 
 :mod:`~warpviz.spacetime.metrics` holds :class:`Metric` and one class per metric compiled into the core
 (hand-written for Minkowski, Schwarzschild, Kerr and the Ellis wormhole, generated from the registry for
-the others); :mod:`~warpviz.spacetime.landmarks` the horizon, ergosphere, photon sphere or region, throat
-and embedding diagram as PyVista polydata. This is the bottom layer of the Python package: it imports
+the others); :mod:`~warpviz.spacetime.landmarks` the horizon, ergosphere, photon sphere or region and throat
+as PyVista polydata; :mod:`~warpviz.spacetime.embedding` a static spherical wormhole's embedding diagram,
+from the lens functions its metric file declares. This is the bottom layer of the Python package: it imports
 nothing of warpviz but :mod:`warpviz._native`.
 
 Examples
@@ -13,9 +14,13 @@ Examples
 True
 """
 
+from warpviz.spacetime.embedding import (
+    WormholeProfile,
+    has_embedding,
+    wormhole_embedding,
+    wormhole_embedding_points,
+)
 from warpviz.spacetime.landmarks import (
-    ellis_embedding,
-    ellis_embedding_points,
     ergosphere_surface,
     horizon_surface,
     metric_features,
@@ -52,8 +57,10 @@ __all__ = [
     "metric_from_dict",
     "metric_from_params",
     "metric_names",
-    "ellis_embedding",
-    "ellis_embedding_points",
+    "WormholeProfile",
+    "has_embedding",
+    "wormhole_embedding",
+    "wormhole_embedding_points",
     "ergosphere_surface",
     "horizon_surface",
     "metric_features",

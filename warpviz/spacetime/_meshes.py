@@ -80,6 +80,11 @@ def _revolve(rho: np.ndarray, z: np.ndarray, *, n_phi: int, closed: bool = False
     return _Piece(points, _join(sizes), _join(conn))
 
 
+def _per_point(values: np.ndarray, rho: np.ndarray, n_phi: int) -> np.ndarray:
+    """Expand one value per meridian point to one per surface point (as laid out by ``_revolve``)."""
+    return np.repeat(np.asarray(values, dtype=np.float64), np.where(rho == 0.0, 1, n_phi))
+
+
 def _theta(resolution: int) -> np.ndarray:
     return np.linspace(0.0, math.pi, resolution // 2 + 1)
 

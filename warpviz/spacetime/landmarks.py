@@ -2,7 +2,7 @@
 embedding diagram), as PyVista polydata.
 
 Positions are in the frame rays are reported in (see the README): Cartesian Kerr–Schild x, y, z for
-Schwarzschild and Kerr (spin along +z), the per-sheet areal-radius frame for the Ellis wormhole.
+Schwarzschild and Kerr (spin along +z), the per-sheet areal-radius frame for a wormhole.
 A Boyer–Lindquist sphere r = const is an oblate spheroid in Kerr–Schild coordinates,
 
     x² + y² = (r² + a²) sin²θ,    z = r cos θ,
@@ -23,19 +23,18 @@ Examples
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from warpviz.spacetime._meshes import _check_resolution, _revolve, _theta
+from warpviz.spacetime._meshes import _check_resolution, _per_point, _revolve, _theta
+from warpviz.spacetime.embedding import has_embedding, wormhole_embedding
 from warpviz.spacetime.metrics import Metric
 
 if TYPE_CHECKING:  # pragma: no cover
     import pyvista as pv
 
 __all__ = [
-    "ellis_embedding",
-    "ellis_embedding_points",
     "ergosphere_surface",
     "horizon_surface",
     "metric_features",
@@ -51,11 +50,6 @@ def _kerr_schild_surface(r: np.ndarray, theta: np.ndarray, a: float, resolution:
     rho[[0, -1]] = 0.0  # exactly on the axis at the poles
     z = r * np.cos(theta)
     return _revolve(rho, z, n_phi=resolution).polydata(r=_per_point(r, rho, resolution))
-
-
-def _per_point(values: np.ndarray, rho: np.ndarray, n_phi: int) -> np.ndarray:
-    """Expand one value per meridian point to one per surface point (as laid out by ``_revolve``)."""
-    return np.repeat(np.asarray(values, dtype=np.float64), np.where(rho == 0.0, 1, n_phi))
 
 
 # --------------------------------------------------------------------------------------------------
@@ -219,11 +213,12 @@ def photon_sphere(metric: Metric, *, resolution: int = 64) -> pv.PolyData:
 
 
 def throat_surface(metric: Metric, *, resolution: int = 64) -> pv.PolyData:
-    """The throat of an Ellis wormhole: the sphere of areal radius b₀ where the two sheets meet.
+    """The throat of a wormhole: the sphere of areal radius b₀ where the two sheets meet.
 
     Parameters
     ----------
-    metric : EllisWormhole
+    metric : Metric
+        A wormhole (its landmarks have a ``throat``).
     resolution : int, keyword-only
         Points around the equator; the meridian has ``resolution // 2 + 1`` points.
 
@@ -245,99 +240,11 @@ def throat_surface(metric: Metric, *, resolution: int = 64) -> pv.PolyData:
     return _kerr_schild_surface(np.full_like(theta, metric.landmarks["throat"]), theta, 0.0, resolution)
 
 
-def ellis_embedding(metric: Metric, *, l_max: float | None = None, resolution: int = 64) -> pv.PolyData:
-    """Embedding diagram of the Ellis wormhole's equatorial plane, both sheets.
-
-    The slice t = const, θ = π/2 has dl² + (b₀² + l²) dφ²; it is the surface of revolution with
-    ρ = √(b₀² + l²) and z = b₀ asinh(l / b₀) (a catenoid, ρ = b₀ cosh(z / b₀)) in Euclidean space.
-    Our sheet (l > 0) is the upper half, the other sheet (l < 0) the lower one, the throat the
-    waist at z = 0. Lengths along the meridians are true proper distances l.
-
-    Parameters
-    ----------
-    metric : EllisWormhole
-    l_max : float, optional, keyword-only
-        Proper radial distance from the throat drawn on each sheet (default 10 b₀).
-    resolution : int, keyword-only
-        Points around the circles; ``resolution + 1`` meridian points (evenly spaced in l).
-
-    Returns
-    -------
-    pyvista.PolyData
-        Open surface with point data ``l`` float64 (signed proper distance), ``r`` float64 (areal
-        radius ρ) and ``sheet`` int8 (+1 for l ≥ 0, −1 for l < 0).
-
-    Examples
-    --------
-    >>> import numpy as np, warpviz as wv
-    >>> emb = ellis_embedding(wv.EllisWormhole(throat=1.0), l_max=5.0)
-    >>> sorted(set(emb.point_data["sheet"].tolist())), bool(np.isclose(emb.bounds[5], np.arcsinh(5.0), rtol=1e-14))
-    ([-1, 1], True)
-    """
-    resolution = _check_resolution(resolution)
-    if "throat" not in metric.landmarks:
-        raise ValueError(f"{metric!r} is not an Ellis wormhole")
-    b0 = metric.landmarks["throat"]
-    l_max = 10.0 * b0 if l_max is None else float(l_max)
-    if not (l_max > 0.0 and math.isfinite(l_max)):
-        raise ValueError(f"l_max must be a positive finite length, got {l_max!r}")
-    ell = np.linspace(l_max, -l_max, 2 * (resolution // 2) + 1)  # north (our sheet) to south
-    rho = np.hypot(b0, ell)
-    z = b0 * np.arcsinh(ell / b0)
-    sheet = np.where(ell >= 0.0, 1, -1).astype(np.int8)
-    return _revolve(rho, z, n_phi=resolution).polydata(
-        l=_per_point(ell, rho, resolution), r=_per_point(rho, rho, resolution), sheet=np.repeat(sheet, resolution)
-    )
-
-
-def ellis_embedding_points(metric: Metric, points: Any, sheet: Any) -> np.ndarray:
-    """Map positions on an Ellis wormhole onto its embedding diagram (:func:`ellis_embedding`).
-
-    A point at areal radius R = |x| on sheet s has l = s √(R² − b₀²); it goes to the point of the
-    diagram with that l at its azimuth φ = atan2(y, x), which lies exactly on the surface. Rays in
-    the plane z = 0 are drawn faithfully; other rays are projected along their latitude (their
-    distance from the throat and azimuth are kept). A ray through the throat crosses the waist from
-    one sheet to the other.
-
-    Parameters
-    ----------
-    metric : EllisWormhole
-    points : array_like, shape (P, 3), float
-        Positions in each point's sheet frame (as in ``RayBundle.points``).
-    sheet : array_like, shape (P,), {+1, -1}
-        Sheet of each point (``RayBundle.point_data["sheet"]``).
-
-    Returns
-    -------
-    numpy.ndarray, shape (P, 3), float64
-        Positions on the embedding surface.
-
-    Examples
-    --------
-    >>> import warpviz as wv
-    >>> ellis_embedding_points(wv.EllisWormhole(throat=1.0), [[0, 5.0, 0], [5.0, 0, 0]], [1, -1]).round(6).tolist()
-    [[0.0, 5.0, 2.292432], [5.0, 0.0, -2.292432]]
-    """
-    if "throat" not in metric.landmarks:
-        raise ValueError(f"{metric!r} is not an Ellis wormhole")
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    sheet = np.asarray(sheet).reshape(-1)
-    if sheet.shape[0] != points.shape[0]:
-        raise ValueError(f"sheet must have one entry per point ({points.shape[0]}), got {sheet.shape[0]}")
-    if not np.all((sheet == 1) | (sheet == -1)):
-        raise ValueError("sheet entries must be +1 or -1")
-    b0 = metric.landmarks["throat"]
-    radius = np.maximum(np.linalg.norm(points, axis=1), b0)
-    ell = np.where(sheet > 0, 1.0, -1.0) * np.sqrt(radius * radius - b0 * b0)
-    phi = np.arctan2(points[:, 1], points[:, 0])
-    return np.column_stack([radius * np.cos(phi), radius * np.sin(phi), b0 * np.arcsinh(ell / b0)])
-
-
 def metric_features(metric: Metric, *, resolution: int = 64) -> dict[str, pv.PolyData]:
     """Every landmark surface the metric has, by block name.
 
     Schwarzschild: ``horizon``, ``photon_sphere``. Kerr: ``horizon``, ``ergosphere`` (when spinning),
-    ``photon_sphere`` (the photon region). Ellis: ``throat``, ``embedding``. Minkowski: none.
+    ``photon_sphere`` (the photon region). A wormhole: ``throat`` and, when static and spherical (Ellis), ``embedding``. Minkowski: none.
 
     Parameters
     ----------
@@ -365,5 +272,6 @@ def metric_features(metric: Metric, *, resolution: int = 64) -> dict[str, pv.Pol
         features["photon_sphere"] = photon_sphere(metric, resolution=resolution)
     if "throat" in marks:
         features["throat"] = throat_surface(metric, resolution=resolution)
-        features["embedding"] = ellis_embedding(metric, resolution=resolution)
+    if has_embedding(metric):  # a static spherical wormhole (its lens functions give the diagram)
+        features["embedding"] = wormhole_embedding(metric, resolution=resolution)
     return features

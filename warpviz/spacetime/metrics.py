@@ -182,6 +182,20 @@ class Metric:
         return dict(cached)
 
     @property
+    def spherical_lens(self) -> dict[str, Any] | None:
+        """A static spherical metric's lens functions from the core (``renderer_ext/spacetime/lens_map.h``),
+        ``None`` for the others.
+
+        ds² = −A dt² + dR² / (A h) + R² dΩ² in the areal radius R, with ``a`` and ``h`` the coefficients of
+        A(u) and h(u) in u = 1 / R (constant first), ``u_inner`` 1 / R of the innermost sphere rays
+        approach (photon sphere or throat) and ``throat`` whether that is a wormhole's throat. They draw a
+        wormhole's embedding diagram (:func:`warpviz.wormhole_embedding`); a copy.
+        """
+        if "_lens" not in self.__dict__:
+            object.__setattr__(self, "_lens", core.spherical_lens(self.name, self.param_values))
+        return copy.deepcopy(self.__dict__["_lens"])
+
+    @property
     def horizon_radius(self) -> float:
         """Radius of the outer event horizon (0 if there is none)."""
         return self.landmarks.get("horizon", 0.0)
@@ -312,9 +326,10 @@ del _e
 METRIC_CLASSES: dict[str, type[Metric]] = {c.__name__: c for c in _CLASSES.values()}
 
 
-def metric_names() -> list[str]:
-    """Registry names of every metric compiled into the core, in registration order."""
-    return list(_CLASSES)
+def metric_names(*, sheets: int | None = None) -> list[str]:
+    """Registry names of every metric compiled into the core, in registration order; with ``sheets``, only
+    those whose spacetime has that many sheets (2: the wormholes)."""
+    return [n for n in _CLASSES if sheets is None or _REGISTRY[n]["sheets"] == sheets]
 
 
 def metric_class(name: str) -> type[Metric]:

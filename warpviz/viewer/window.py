@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from warpviz.scene import camera_frustum, flat_camera_ray, scene_surfaces
-from warpviz.spacetime import ellis_embedding, ellis_embedding_points, metric_features
+from warpviz.spacetime import has_embedding, metric_features, wormhole_embedding, wormhole_embedding_points
 from warpviz.tracing import RayStatus
 from warpviz.viewer.annotations import (
     COLORINGS,
@@ -144,7 +144,7 @@ class TeachingView(ImagePanel, Framing, Events):
         self.bounces = None if bounces is None else int(bounces)
         if self.bounces is not None and self.bounces < 0:
             raise ValueError(f"bounces must be >= 0 (0: camera segments only), got {bounces}")
-        self._embedding = self.metric is not None and "throat" in self.metric.landmarks
+        self._embedding = self.metric is not None and has_embedding(self.metric)  # a static spherical wormhole
         self._image_renderer = None
         self._image_actor = None
         self._rays_actor = None
@@ -236,7 +236,7 @@ class TeachingView(ImagePanel, Framing, Events):
                            cmap=[LEGEND_STYLE["our_sheet"][1], LEGEND_STYLE["other_sheet"][1]],
                            clim=(0, 1), opacity=0.45, smooth_shading=True, specular=0.3, show_scalar_bar=False,
                            pickable=False, name="embedding")  # fmt: skip
-                grid = ellis_embedding(self.metric, resolution=24) if self._embedding else mesh
+                grid = wormhole_embedding(self.metric, resolution=24) if self._embedding else mesh
                 p.add_mesh(grid, style="wireframe", color="slategray", opacity=0.5, line_width=1, lighting=False,
                            pickable=False, name="embedding_grid")  # fmt: skip
                 waist_radius = (self.metric.landmarks["throat"] if self._embedding
@@ -315,7 +315,7 @@ class TeachingView(ImagePanel, Framing, Events):
         if self.rays is not None and self.rays.n_cells:
             shown = self.rays.copy()
             if self._embedding and "sheet" in shown.point_data:
-                shown.points = ellis_embedding_points(self.metric, shown.points, shown.point_data["sheet"])
+                shown.points = wormhole_embedding_points(self.metric, shown.points, shown.point_data["sheet"])
                 rims = [float(np.max(np.hypot(*np.asarray(m.points)[:, :2].T))) for m in focus if m.n_points]
                 if rims:  # rays leaving for infinity end a little beyond the diagram's rim
                     shown = _cut_lines_at(shown, 1.15 * max(rims))
@@ -463,7 +463,7 @@ class TeachingView(ImagePanel, Framing, Events):
 
     def _embed(self, points: np.ndarray, sheet) -> np.ndarray:
         sheets = np.broadcast_to(np.asarray(sheet), (points.shape[0],))
-        return ellis_embedding_points(self.metric, points, sheets)
+        return wormhole_embedding_points(self.metric, points, sheets)
 
     # ---------------------------------------------------------------- progressive image
 
