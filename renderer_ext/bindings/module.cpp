@@ -487,6 +487,13 @@ NB_MODULE(_core, m) {
   m.def(
       "film_noise", [](nb::dict film) { return wv::noise(sums_from_dict(film).sums); }, "film"_a,
       "A film's relative noise estimate (film/film.h: noise; warpviz.render.passes.noise_estimate).");
+  m.def(
+      "film_noise_parts",
+      [](nb::dict film) {
+        const wv::NoiseParts p = wv::noise_parts(sums_from_dict(film).sums);
+        return nb::make_tuple(p.var, p.level, p.lit);
+      },
+      "film"_a, "The sums a film's noise estimate is made of, (var, level, lit), which add over tiles (film/film.h).");
   m.def("trace", &trace, "metric"_a, "params"_a, "origins"_a, "directions"_a, "sheets"_a, "tol"_a, "stepper"_a,
         "max_steps"_a, "escape_radius"_a, "max_drift"_a, "rk4_step"_a, "record"_a, "threads"_a, "batch"_a, "monitor_every"_a,
         "Trace rays; see warpviz.trace for the documented interface.");

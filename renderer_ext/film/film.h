@@ -120,21 +120,32 @@ inline double mean_variance(const FilmSums& f, size_t i, int k) {
 // right for independent samples and an upper bound for the stratified pixel positions (Sobol), whose
 // mean converges faster where an edge crosses the pixel. (Splitting the samples by index parity instead
 // does not work for Sobol points: the even and odd ones lie in opposite halves of the pixel.)
-inline double noise(const FilmSums& f) {
-  double var = 0.0, level = 0.0;
-  size_t lit = 0;
+// Its sums over the lit pixels, which add over the tiles of an image (warpviz/render/distributed.py).
+struct NoiseParts {
+  double var = 0.0, level = 0.0;  // sums over lit pixels and channels of the mean's variance and of the mean
+  size_t lit = 0;                 // lit pixels
+};
+
+inline NoiseParts noise_parts(const FilmSums& f) {
+  NoiseParts p;
   for (size_t i = 0; i < f.n; ++i) {
     const double m = double(f.samples[i]);
     if (m <= 0 || !(f.rgb_sum[3 * i] > 0 || f.rgb_sum[3 * i + 1] > 0 || f.rgb_sum[3 * i + 2] > 0)) continue;
-    ++lit;
+    ++p.lit;
     for (int k = 0; k < 3; ++k) {
-      var += mean_variance(f, i, k);  // NaN (fewer than 2 samples) makes the estimate NaN
-      level += f.rgb_sum[3 * i + k] / m;
+      p.var += mean_variance(f, i, k);  // NaN (fewer than 2 samples) makes the estimate NaN
+      p.level += f.rgb_sum[3 * i + k] / m;
     }
   }
-  if (lit == 0) return 0.0;
-  return level > 0 ? std::sqrt(var / double(3 * lit)) / (level / double(3 * lit)) : INFINITY;
+  return p;
 }
+
+inline double noise(const NoiseParts& p) {
+  if (p.lit == 0) return 0.0;
+  return p.level > 0 ? std::sqrt(p.var / double(3 * p.lit)) / (p.level / double(3 * p.lit)) : INFINITY;
+}
+
+inline double noise(const FilmSums& f) { return noise(noise_parts(f)); }
 
 // The film resolved to per-pixel means, float32 as the image and its AOVs are stored: rgb (H, W, 3) mean
 // radiance, variance (H, W, 3) the variance of that mean estimated from the pixel's samples (sample

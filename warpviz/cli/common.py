@@ -157,6 +157,36 @@ def _renderer():
     return render
 
 
+@contextlib.contextmanager
+def _cluster(workers: Optional[int], address: Optional[str], tile: Optional[int]):
+    """The Dask client of ``--workers N`` (a local cluster) or ``--cluster ADDRESS``, its dashboard printed;
+    None without either. Both at once, or ``--tile`` without one, is exit code 2; dask.distributed not
+    installed exit code 1 with the extra to install."""
+    if workers is not None and address is not None:
+        _fail("give --workers (a local Dask cluster) or --cluster (a running scheduler), not both", EXIT_BAD_INPUT)
+    if workers is None and address is None:
+        if tile is not None:
+            _fail("--tile is the tile size of a render on a Dask cluster: it needs --workers or --cluster",
+                  EXIT_BAD_INPUT)  # fmt: skip
+        yield None
+        return
+    from warpviz.render.distributed import cluster_client
+
+    try:
+        manager = cluster_client(workers=workers, address=address)
+        client = manager.__enter__()
+    except ImportError as exc:
+        _fail(str(exc), EXIT_ERROR)
+    except ValueError as exc:
+        _fail(f"--cluster: {exc}", EXIT_BAD_INPUT)
+    try:
+        where = f"{workers} local workers" if workers is not None else f"the scheduler at {address}"
+        err.print(f"Dask: {where}, dashboard {client.dashboard_link}", soft_wrap=True)
+        yield client
+    finally:
+        manager.__exit__(None, None, None)
+
+
 def _parse_size(value: Optional[str]) -> Optional[tuple[int, int]]:
     if value is None:
         return None
@@ -266,7 +296,7 @@ def _duration(seconds: float) -> str:
 
 def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_sampling, progress, record_pixels=None,
                   light_connection=None, crop=None, aovs=None, denoise=False, edge_samples=None, time_limit=None,
-                  noise_target=None, resume=None):
+                  noise_target=None, resume=None, client=None, tile=None):
     """Call warpviz.render with the command line's options; bad options (and images too large for the
     memory, and an image to resume that does not match) become exit code 2, a denoiser that is not
     installed exit code 1 with the extra to install."""
@@ -274,7 +304,8 @@ def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_
     width, height = size if size is not None else (None, None)
     extra = {"denoise": True} if denoise else {}  # only when asked: a stand-in renderer need not know them
     for key, value in (("edge_samples", edge_samples), ("time_limit", time_limit), ("noise_target", noise_target),
-                       ("resume", resume), ("on_pass", getattr(progress, "on_pass", None))):  # fmt: skip
+                       ("resume", resume), ("on_pass", getattr(progress, "on_pass", None)), ("client", client),
+                       ("tile", tile)):  # fmt: skip
         if value is not None:
             extra[key] = value
     try:

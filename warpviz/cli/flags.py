@@ -31,3 +31,17 @@ TONEMAP = typer.Option(
 )  # fmt: skip
 FORCE = typer.Option(False, "--force", help="Replace existing output files that warpviz did not write.")
 QUIET = typer.Option(False, "--quiet", "-q", help="No progress bar.")
+WORKERS = typer.Option(
+    None, "--workers", min=1,
+    help="Render on a local Dask cluster of this many worker processes, one thread each (pip install "
+    "'warpviz[dask]'); the image is bit-identical to the local render. The dashboard's address is printed.",
+)  # fmt: skip
+CLUSTER = typer.Option(
+    None, "--cluster",
+    help="Render on the running Dask scheduler at this address, e.g. tcp://10.0.0.5:8786 (docs/cluster.md: "
+    "SLURM, SSH); every worker needs this warpviz. The image is bit-identical to the local render.",
+)  # fmt: skip
+TILE = typer.Option(
+    None, "--tile", min=1, max=MAX_IMAGE_SIDE,
+    help="With --workers or --cluster: tile side in pixels, each tile's pass one task (default 128).",
+)  # fmt: skip

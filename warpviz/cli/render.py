@@ -114,6 +114,9 @@ def render(
         help=f"Write a false-colour PNG of this AOV ({', '.join(FALSE_COLOUR_STYLES)}) with a colour bar "
         "naming the quantity and its range, instead of the tonemapped picture.",
     ),  # fmt: skip
+    workers: Optional[int] = flags.WORKERS,
+    cluster: Optional[str] = flags.CLUSTER,
+    tile: Optional[int] = flags.TILE,
     force: bool = flags.FORCE,
     quiet: bool = flags.QUIET,
 ) -> None:
@@ -147,12 +150,13 @@ def render(
         common._renderer()
         t0 = time.perf_counter()
         bar = {"seconds": seconds_budget} if seconds_budget is not None else {}  # a stand-in bar need not know it
-        with common._progress_bar(sc.path.stem if sc.path else "scene", enabled=not quiet, **bar) as progress:
+        with common._cluster(workers, cluster, tile) as client, \
+                common._progress_bar(sc.path.stem if sc.path else "scene", enabled=not quiet, **bar) as progress:
             img = _render_scene(sc, spp=spp, size=size, seed=seed, threads=threads, flat=flat, paper=paper,
                                 light_sampling=False if no_light_sampling else None, progress=progress,
                                 light_connection=light_connection, crop=crop, aovs=aovs,
                                 denoise=denoise, edge_samples=edge_samples, time_limit=seconds_budget,
-                                noise_target=noise_target, resume=resume)  # fmt: skip
+                                noise_target=noise_target, resume=resume, client=client, tile=tile)  # fmt: skip
         if target.suffix.lower() == ".exr":
             _keep_aovs(img, sc.outputs.get("aovs"))
         if false_colour is not None:

@@ -54,6 +54,9 @@ def trace(
     paper: bool = flags.PAPER,
     exposure: Optional[float] = flags.EXPOSURE,
     tonemap: Optional[str] = flags.TONEMAP,
+    workers: Optional[int] = flags.WORKERS,
+    cluster: Optional[str] = flags.CLUSTER,
+    tile: Optional[int] = flags.TILE,
     force: bool = flags.FORCE,
     quiet: bool = flags.QUIET,
 ) -> None:
@@ -70,10 +73,11 @@ def trace(
         target = _output_path(output, (".vtp",), force=force)
         picture = _output_path(image, IMAGE_SUFFIXES, force=force) if image is not None else None
         common._renderer()
-        with common._progress_bar("tracing", enabled=not quiet) as progress:
+        with common._cluster(workers, cluster, tile) as client, \
+                common._progress_bar("tracing", enabled=not quiet) as progress:
             img = _render_scene(sc, spp=spp, size=size, seed=seed, threads=threads, flat=flat, paper=paper,
                                 light_sampling=None, progress=progress, record_pixels=record,
-                                aovs=_aovs_for(picture, sc))  # fmt: skip
+                                aovs=_aovs_for(picture, sc), client=client, tile=tile)  # fmt: skip
         rays = getattr(img, "rays", None)
         if rays is None:
             _fail("the renderer returned no recorded rays")

@@ -34,7 +34,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["PASS_SAMPLES", "PassReport", "standard_pass", "next_pass", "noise_estimate", "run_passes", "PassesDone"]
+__all__ = ["PASS_SAMPLES", "PassReport", "standard_pass", "next_pass", "noise_estimate", "run_passes", "PassesDone",
+           "concat_rays", "film_samples"]  # fmt: skip
 
 #: At most this many samples over the image in one pass (~30 s of the fig07 room at 640x480 on 2 cores):
 #: Ctrl-C loses at most one pass, and a time budget is kept to within one.
@@ -267,7 +268,7 @@ def run_passes(render_range: Callable[[dict], dict], start: PassesDone, *, npix:
                     state = PassesDone(raw["film"], 0, 0, None, _add_stats(state.stats, raw["stats"]),
                                        state.rays + ((raw["rays"],) if "rays" in raw else ()))  # fmt: skip
                 return state, False, "interrupted"
-            added = int(raw["film"]["samples"].sum()) - (int(state.film["samples"].sum()) if state.film else 0)
+            added = film_samples(raw["film"]) - (film_samples(state.film) if state.film is not None else 0)
             state = PassesDone(
                 film=raw["film"], spp=state.spp + n, passes=state.passes + 1, edges=raw["edge_list"],
                 stats=_add_stats(state.stats, raw["stats"]),
@@ -283,3 +284,28 @@ def run_passes(render_range: Callable[[dict], dict], start: PassesDone, *, npix:
                                    noise=state.noise))  # fmt: skip
     except KeyboardInterrupt:
         return state, False, "interrupted"
+
+
+def film_samples(film) -> int:
+    """Samples in a film: the core's dict, or tiles kept on a cluster (:class:`warpviz.render.distributed.TileFilms`)."""
+    total = getattr(film, "samples_total", None)
+    return int(film["samples"].sum()) if total is None else int(total)
+
+
+def concat_rays(parts) -> dict:
+    """The recorded segments of several passes or tiles (the core's raw dicts) as one, in the given order."""
+    parts = list(parts)
+    if len(parts) == 1:
+        return parts[0]
+    out = {"column_names": parts[0]["column_names"]}
+    offsets, base = [np.zeros(1, dtype=np.asarray(parts[0]["offsets"]).dtype)], 0
+    for p in parts:
+        off = np.asarray(p["offsets"])
+        offsets.append(off[1:] + base)
+        base += int(off[-1])
+    out["offsets"] = np.concatenate(offsets)
+    out["points"] = np.concatenate([np.asarray(p["points"]).reshape(-1, 3) for p in parts])
+    out["columns"] = np.concatenate([np.asarray(p["columns"]) for p in parts], axis=1)
+    for key in ("pixel_x", "pixel_y", "sample", "bounce", "kind", "status", "sheet"):
+        out[key] = np.concatenate([np.asarray(p[key]) for p in parts])
+    return out

@@ -39,7 +39,7 @@ from warpviz.options import FILTER_RADII, check_option
 from warpviz.render.denoise import DENOISE_FEATURES, require_denoiser
 from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
-from warpviz.render.passes import PassesDone, PassReport, run_passes
+from warpviz.render.passes import PassesDone, PassReport, concat_rays, run_passes
 from warpviz.render.resume import film_from_image, read_exr, resume_problem, resume_settings, scene_sha256
 from warpviz.scene.native import native_scene, scene_emits
 from warpviz.spacetime import metric_from_params
@@ -101,6 +101,8 @@ def render(
     noise_target: float | None = None,
     resume=None,
     on_pass: Callable[[PassReport], object] | None = None,
+    client=None,
+    tile: int | None = None,
 ) -> Image:
     """Path-trace a scene.
 
@@ -224,6 +226,15 @@ def render(
     on_pass : callable, optional, keyword-only
         Called after every pass with a :class:`warpviz.render.passes.PassReport` (samples per pixel
         reached, passes, seconds, time left, noise estimate).
+    client : distributed.Client, optional, keyword-only
+        Render on this Dask cluster (``pip install "warpviz[dask]"``; :mod:`warpviz.render.distributed`):
+        each pass's tiles are tasks, and the image is bit-identical to the local render of the same samples
+        per pixel, for any number of workers and any tile size. ``threads`` is then the threads of each
+        task (default 1: run one single-threaded worker per core). Every worker must run this warpviz
+        build (checked first, a ValueError naming the worker).
+    tile : int, optional, keyword-only
+        With ``client``: the tiles' side in pixels (default
+        :data:`warpviz.render.distributed.DEFAULT_TILE`, 128).
 
     Returns
     -------
@@ -284,6 +295,15 @@ def render(
     noise_target = None if noise_target is None else noise_level("noise_target", noise_target)
     if on_pass is not None and not callable(on_pass):
         raise ValueError("on_pass must be a callable(PassReport)")
+    if tile is not None and client is None:
+        raise ValueError("tile is the tile size of a render on a Dask cluster: it needs client=")
+    if client is not None:
+        from warpviz.render.distributed import DEFAULT_TILE, tile_windows
+
+        tile = DEFAULT_TILE if tile is None else tile
+        tile_windows((0, 0, 1, 1), tile)  # checks it
+        if not hasattr(client, "submit") or not hasattr(client, "nthreads"):
+            raise ValueError(f"client must be a dask.distributed.Client, got {type(client).__name__}")
     # The samples per pixel to reach: spp, or with a time budget or noise target and no spp, as many as
     # fit in the film's 32-bit counts.
     target = options["spp"] if spp is not None or not limited else MAX_SPP // options["edge_samples"]
@@ -321,13 +341,21 @@ def render(
     def render_range(extra: dict) -> dict:
         return core.render(native, {**core_options, **extra})
 
+    if client is not None:  # the same passes, each one's tiles as tasks on the cluster
+        from warpviz.render.distributed import TiledPasses, check_workers
+
+        check_workers(client)
+        core_options["threads"] = options["threads"] or 1
+        render_range = TiledPasses(client, native, core_options, tile=tile)
+
     t0 = time.perf_counter()
     done, completed, stopped_by = run_passes(
         render_range, start, npix=cw * ch, spp=target, seconds=time_limit, noise=noise_target,
         clock=time.perf_counter, progress=progress, on_pass=on_pass)  # fmt: skip
-    if done.film is None:  # stopped before the first pass had rendered anything: nothing to return
+    film = done.film if client is None or done.film is None else done.film.gather(client)
+    if film is None:  # stopped before the first pass had rendered anything: nothing to return
         raise KeyboardInterrupt
-    resolved = core.resolve_film(done.film)
+    resolved = core.resolve_film(film)
     if completed and progress is not None:
         total = int(resolved["samples_total"]) - (int(start.film["samples"].sum()) if start.film else 0)
         progress(total, total)
@@ -365,11 +393,11 @@ def render(
     }
     if (cw, ch) != (w, h):
         metadata["crop"] = [x0, y0, cw, ch]
-    rays = _bundle(_concat_rays(done.rays), metric, options) if done.rays else None
+    rays = _bundle(concat_rays(done.rays), metric, options) if done.rays else None
     # The AOVs in the core's order; the first-hit ones and max_drift are the film's own arrays.
     aovs_out = {}
     for name in ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal"):
-        value = resolved[name] if name in resolved else done.film[name]
+        value = resolved[name] if name in resolved else film[name]
         if value is not None:
             aovs_out[name] = value
     aovs_out.update(errors=resolved["errors"], samples=resolved["samples"], variance=resolved["variance"])
@@ -383,25 +411,6 @@ def render(
         native_scene=native,
     )
     return img.denoise() if denoise else img
-
-
-def _concat_rays(parts) -> dict:
-    """The recorded segments of several passes (the core's raw dicts) as one."""
-    parts = list(parts)
-    if len(parts) == 1:
-        return parts[0]
-    out = {"column_names": parts[0]["column_names"]}
-    offsets, base = [np.zeros(1, dtype=np.asarray(parts[0]["offsets"]).dtype)], 0
-    for p in parts:
-        off = np.asarray(p["offsets"])
-        offsets.append(off[1:] + base)
-        base += int(off[-1])
-    out["offsets"] = np.concatenate(offsets)
-    out["points"] = np.concatenate([np.asarray(p["points"]).reshape(-1, 3) for p in parts])
-    out["columns"] = np.concatenate([np.asarray(p["columns"]) for p in parts], axis=1)
-    for key in ("pixel_x", "pixel_y", "sample", "bounce", "kind", "status", "sheet"):
-        out[key] = np.concatenate([np.asarray(p[key]) for p in parts])
-    return out
 
 
 def _aov_names(value) -> list[str]:

@@ -1,0 +1,196 @@
+"""Rendering on a Dask cluster (warpviz/render/distributed.py): the image is the local one, bit for bit, for
+any worker count and tile size; a lost worker, Ctrl-C, a time budget and resume behave as locally; the
+scene's files stay on the client. The clusters are real (worker processes on this machine)."""
+
+import os
+import shutil
+import signal
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+import warpviz as wv
+from warpviz.cli import app
+from warpviz.render.distributed import TileFilms, check_workers, tile_windows
+
+distributed = pytest.importorskip("distributed")
+
+SMALL = {"width": 40, "height": 30, "progress": None}
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
+
+
+@pytest.fixture(scope="module")
+def cluster2():
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cl, \
+            distributed.Client(cl) as client:  # fmt: skip
+        yield cl, client
+
+
+@pytest.fixture(scope="module")
+def local_fig07():
+    return wv.render("fig07", **SMALL, spp=6, threads=2)
+
+
+def assert_same_image(a, b):
+    np.testing.assert_array_equal(a.rgb, b.rgb)
+    assert set(a.aovs) == set(b.aovs)
+    for name in a.aovs:
+        np.testing.assert_array_equal(a.aovs[name], b.aovs[name], err_msg=name)
+    assert (a.metadata["spp"], a.metadata["passes"]) == (b.metadata["spp"], b.metadata["passes"])
+
+
+def test_tiles_cover_the_window_once():
+    tiles = tile_windows((3, 5, 50, 33), 16)
+    cover = np.zeros((40, 60), dtype=int)
+    for x, y, w, h in tiles:
+        cover[y:y + h, x:x + w] += 1
+    assert cover[5:38, 3:53].min() == 1 and cover.sum() == 50 * 33
+    with pytest.raises(ValueError, match="tile must be a positive"):
+        tile_windows((0, 0, 4, 4), 0)
+
+
+@pytest.mark.parametrize("tile", [7, 16, 128])
+def test_two_workers_give_the_local_image_bit_for_bit(cluster2, local_fig07, tile):
+    _, client = cluster2
+    img = wv.render("fig07", **SMALL, spp=6, client=client, tile=tile)
+    assert_same_image(img, local_fig07)
+    assert img.metadata["noise"] == pytest.approx(local_fig07.metadata["noise"], rel=1e-12)
+
+
+def test_one_worker_and_a_curved_wormhole_room_also(local_fig07):
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cl, \
+            distributed.Client(cl) as client:  # fmt: skip
+        assert_same_image(wv.render("fig07", **SMALL, spp=6, client=client, tile=16), local_fig07)
+        local = wv.render("fig12", **SMALL, spp=3, threads=1, record_pixels=[[5, 5], [30, 20]])
+        remote = wv.render("fig12", **SMALL, spp=3, client=client, tile=16, record_pixels=[[5, 5], [30, 20]])
+        assert_same_image(remote, local)
+        assert len(remote.rays) == len(local.rays) > 0  # the same paths, grouped by tile
+        np.testing.assert_array_equal(np.sort(remote.rays.points, axis=0), np.sort(local.rays.points, axis=0))
+
+
+def test_a_worker_killed_mid_render_still_gives_the_whole_image(cluster2, local_fig07):
+    """After the second pass one worker process is killed (its tiles' films are lost with it): the
+    scheduler runs their passes again from the films' lineage, on the other worker or a restarted one."""
+    cl, client = cluster2
+    killed = []
+
+    def kill_one(report):
+        if report.passes == 2 and not killed:
+            pid = next(iter(client.run(os.getpid).values()))
+            os.kill(pid, signal.SIGKILL)
+            killed.append(pid)
+
+    img = wv.render("fig07", **SMALL, spp=6, client=client, tile=8, on_pass=kill_one)
+    assert killed and img.completed
+    assert_same_image(img, local_fig07)
+    client.wait_for_workers(2, timeout=60)
+
+
+def test_ctrl_c_keeps_the_finished_passes(cluster2):
+    _, client = cluster2
+    calls = []
+
+    def progress(done, total):  # called as each of the 6 tiles finishes its pass
+        calls.append(done)
+        if len(calls) == stop_at:
+            raise KeyboardInterrupt
+
+    stop_at = 15  # inside the third pass
+    img = wv.render("fig07", width=40, height=30, spp=64, client=client, tile=16, progress=progress)
+    assert not img.completed and img.metadata["stopped_by"] == "interrupted"
+    assert img.metadata["spp"] == 2 and img.metadata["passes"] == 2
+    assert_same_image(img, wv.render("fig07", **SMALL, spp=2, threads=2))
+    calls.clear()
+    stop_at = 3  # inside the first pass: the finished tiles are kept, the others are empty
+    first = wv.render("fig07", width=40, height=30, spp=64, client=client, tile=16, progress=progress)
+    assert not first.completed and first.metadata["spp"] == 0
+    assert 0 < np.count_nonzero(first.aovs["samples"]) < 40 * 30
+
+
+def test_a_time_budget_a_noise_target_and_resume_work_on_a_cluster(cluster2, tmp_path):
+    _, client = cluster2
+    timed = wv.render("fig07", **SMALL, time_limit=1.5, client=client, tile=16)
+    assert timed.metadata["stopped_by"] == "time" and timed.metadata["spp"] >= 1
+    np.testing.assert_array_equal(timed.rgb, wv.render("fig07", **SMALL, spp=timed.metadata["spp"], threads=2).rgb)
+    noisy = wv.render("fig03", **SMALL, noise_target=0.2, client=client, tile=16, aovs=[])
+    alone = wv.render("fig03", **SMALL, noise_target=0.2, threads=2, aovs=[])
+    assert noisy.metadata["stopped_by"] == "noise" and noisy.metadata["spp"] == alone.metadata["spp"]
+    np.testing.assert_array_equal(noisy.rgb, alone.rgb)
+    part = wv.render("fig07", **SMALL, spp=3, threads=2).save(tmp_path / "part.exr")
+    resumed = wv.render("fig07", **SMALL, spp=9, client=client, tile=16, resume=part)
+    direct = wv.render("fig07", **SMALL, spp=9, threads=2)
+    assert resumed.metadata["spp"] == 9
+    np.testing.assert_allclose(resumed.rgb, direct.rgb, rtol=1e-6, atol=1e-7)  # as a local resume: float32
+    np.testing.assert_array_equal(resumed.aovs["samples"], direct.aovs["samples"])
+
+
+def test_the_scene_files_stay_on_the_client(cluster2, tmp_path):
+    """The textures of a loaded scene travel inside it: with the files deleted, the cluster renders it."""
+    _, client = cluster2
+    shutil.copy(SCENES / "fig02_accretion_disk.toml", tmp_path / "disk.toml")
+    shutil.copytree(SCENES / "textures", tmp_path / "textures")
+    scene = wv.load_scene(tmp_path / "disk.toml")
+    shutil.rmtree(tmp_path / "textures")
+    local = wv.render(scene, **SMALL, spp=2, threads=2)
+    assert_same_image(wv.render(scene, **SMALL, spp=2, client=client, tile=16), local)
+
+
+def test_bad_cluster_arguments_are_named_before_any_work(cluster2):
+    _, client = cluster2
+    with pytest.raises(ValueError, match="needs client="):
+        wv.render("fig07", **SMALL, spp=1, tile=16)
+    with pytest.raises(ValueError, match="tile must be a positive"):
+        wv.render("fig07", **SMALL, spp=1, client=client, tile=0)
+    with pytest.raises(ValueError, match="dask.distributed.Client"):
+        wv.render("fig07", **SMALL, spp=1, client="tcp://somewhere:8786")
+
+
+def test_a_worker_with_another_warpviz_is_named():
+    class FakeClient:
+        scheduler = type("S", (), {"address": "tcp://sched:8786"})()
+
+        def nthreads(self):
+            return {"tcp://w1:1": 1}
+
+        def run(self, fn):
+            return {"tcp://w1:1": {"version": "0.0.1", "simd": wv.build_info()["simd"]}}
+
+    with pytest.raises(ValueError, match=r"worker tcp://w1:1 runs warpviz 0\.0\.1"):
+        check_workers(FakeClient())
+
+
+def test_tile_films_gather_places_tiles_and_leaves_missing_ones_empty(cluster2):
+    _, client = cluster2
+    film = {"x0": 0, "y0": 0, "samples": np.ones((2, 2), np.int32), "rgb_sum": np.ones((2, 2, 3)), "depth": None}
+    [fut] = client.scatter([{"film": film}])
+    tiles = TileFilms(tiles=((0, 0, 2, 2), (2, 0, 2, 2)), futures=(fut, None), samples_total=4, window=(0, 0, 4, 2))
+    out = tiles.gather(client)
+    assert out["samples"].tolist() == [[1, 1, 0, 0], [1, 1, 0, 0]] and out["depth"] is None
+    assert TileFilms(tiles=tiles.tiles, futures=(None, None), samples_total=0, window=(0, 0, 4, 2)).gather(client) is None
+
+
+# ------------------------------------------------------------------------------------------ command line
+def test_the_command_line_renders_on_local_workers(tmp_path):
+    runner = CliRunner()
+    out, ref = tmp_path / "w.exr", tmp_path / "l.exr"
+    args = ["render", "fig07", "--size", "40x30", "--spp", "4", "-q"]
+    res = runner.invoke(app, [*args, "--workers", "2", "--tile", "16", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "Dask: 2 local workers, dashboard http" in res.output
+    assert runner.invoke(app, [*args, "-o", str(ref)]).exit_code == 0
+    np.testing.assert_array_equal(wv.Image.open(out).rgb, wv.Image.open(ref).rgb)
+
+
+@pytest.mark.parametrize("extra, says", [
+    (["--tile", "16"], "--tile is the tile size of a render on a Dask cluster"),
+    (["--workers", "2", "--cluster", "tcp://127.0.0.1:1"], "not both"),
+    (["--cluster", "tcp://127.0.0.1:1"], "cannot reach the Dask scheduler"),
+])  # fmt: skip
+def test_the_command_line_refuses_bad_cluster_flags(tmp_path, extra, says):
+    res = CliRunner().invoke(app, ["render", "fig07", "--size", "8x6", "--spp", "1", "-o", str(tmp_path / "x.png"),
+                                   *extra])  # fmt: skip
+    assert res.exit_code == 2, res.output
+    assert says in " ".join(res.output.split())
+    assert not (tmp_path / "x.png").exists()
