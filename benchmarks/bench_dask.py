@@ -5,9 +5,12 @@ Dask cluster of one single-threaded worker process per core (B), alternating A, 
 each; the cluster is started once, before the first B, and its start is timed apart). Every B image must
 equal A bit for bit. The ratio is B / A of the median wall times (min times too).
 
-The per-task overhead: the same frame on the cluster with several tile sizes (``--tiles``); each tile's
-pass is one task, so wall time ~ a + b x tasks, and the slope b of a least-squares fit, divided by the
-workers (tasks run side by side), is the cost of one more task: a user chooses a tile size from it.
+The same frame on the cluster with several tile sizes (``--tiles``) shows what the tile size does to a
+real render. The fixed cost of one task (sending it, the core's set-up of the scene for a call, the
+summary back) is measured apart, where it is not lost in the render's noise: a 96x72 frame of the same
+scene at 2 spp, cut into 8-pixel tiles (216 tasks) and into one tile (2 tasks), best of three each; the
+difference in wall time times the workers over the difference in tasks is the cost of one task in
+worker time. A user chooses a tile size from it.
 
     python benchmarks/bench_dask.py                 # 320x240, 16 spp: ~3 minutes on 2 cores
     python benchmarks/bench_dask.py --quick         # seconds
@@ -90,21 +93,29 @@ def main(argv: list[str] | None = None) -> int:
             fit.append((tasks, best))
             rows.append({"run": "dask-tiles", "scene": args.scene, "width": w, "height": h, "spp": args.spp,
                          "workers": args.workers, "tile": tile, "tasks": tasks, "wall_s": best})  # fmt: skip
+        cost = {}
+        small = {"width": 96, "height": 72, "spp": 2, "progress": None, "aovs": []}
+        for tile in (8, 96):
+            tasks = 2 * len(tile_windows((0, 0, 96, 72), tile))
+            cost[tasks] = min(_wall(lambda: wv.render(args.scene, **small, client=client, tile=tile)) for _ in range(3))
+            rows.append({"run": "task-cost", "scene": args.scene, "width": 96, "height": 72, "spp": 2,
+                         "workers": args.workers, "tile": tile, "tasks": tasks, "wall_s": cost[tasks]})  # fmt: skip
     finally:
         client.close()
         cluster.close()
     write_csv(args.out / "dask.csv", rows)
     med = {k: float(np.median(v)) for k, v in times.items()}
     low = {k: float(np.min(v)) for k, v in times.items()}
-    slope = np.polyfit([f[0] for f in fit], [f[1] for f in fit], 1)[0] if len(fit) > 1 else float("nan")
+    (many, t_many), (few, t_few) = sorted(cost.items(), reverse=True)
+    per_task = (t_many - t_few) * args.workers / (many - few)
     print(f"{args.scene} {w}x{h}, {args.spp} spp, {passes} passes; cluster start {startup:.1f} s (not counted)")
     print(f"local threads: median {med['local']:.2f} s (min {low['local']:.2f}); {args.workers} workers x 1 thread, "
           f"tile {args.tile}: median {med['dask']:.2f} s (min {low['dask']:.2f})")  # fmt: skip
     print(f"ratio dask / local: median {med['dask'] / med['local']:.3f}, min {low['dask'] / low['local']:.3f}; "
           "images identical")
     print("tiles: " + ", ".join(f"{t} px: {n} tasks {s:.2f} s" for t, (n, s) in zip(args.tiles, fit)))
-    print(f"per-task overhead: {1e3 * slope * args.workers:.1f} ms of a worker ({1e3 * slope:.1f} ms of wall time "
-          f"with {args.workers} workers)")  # fmt: skip
+    print(f"cost of one task: {1e3 * per_task:.1f} ms of a worker ({many} tasks {t_many:.2f} s, {few} tasks "
+          f"{t_few:.2f} s, 96x72 at 2 spp)")  # fmt: skip
     return 0
 
 

@@ -249,3 +249,15 @@ def wv_spp(cache: Path) -> int:
     import warpviz as wv
 
     return sum(int(wv.Image.open(p).metadata["spp"]) for p in sorted(cache.glob("*.exr")))
+
+
+def test_dask_benchmark_quick_mode(tmp_path):
+    """The cluster benchmark runs, checks the images are identical and writes every run's wall time."""
+    pytest.importorskip("distributed")
+    import bench_dask
+
+    assert bench_dask.main(["--quick", "--workers", "2", "--out", str(tmp_path)]) == 0
+    rows = read_csv(tmp_path / "dask.csv")
+    assert {r["run"] for r in rows} == {"local", "dask", "dask-tiles", "task-cost"}
+    assert all(float(r["wall_s"]) > 0 for r in rows)
+    assert {int(r["tasks"]) for r in rows if r["run"] == "task-cost"} == {216, 2}

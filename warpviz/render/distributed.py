@@ -37,12 +37,15 @@ from typing import Any
 import numpy as np
 
 from warpviz._native import core
-from warpviz.render.passes import concat_rays
+from warpviz.render.passes import PASS_SAMPLES, concat_rays
 
-__all__ = ["DEFAULT_TILE", "TileFilms", "TiledPasses", "check_workers", "cluster_client", "tile_windows"]
+__all__ = ["DEFAULT_TILE", "LOOKAHEAD", "TileFilms", "TiledPasses", "check_workers", "cluster_client", "tile_windows"]
 
 #: Tile side in pixels: 128 gives a 640x480 frame 20 tasks a pass and a 1920x1080 one 135.
 DEFAULT_TILE = 128
+
+#: Passes queued behind the running one when the passes are known in advance (no time budget or noise target).
+LOOKAHEAD = 2
 
 
 def tile_windows(window: tuple[int, int, int, int], tile: int) -> list[tuple[int, int, int, int]]:
@@ -194,6 +197,10 @@ class TiledPasses:
         self._run = uuid.uuid4().hex[:8]
         self._pass = 0
         self._samples: dict[int, int] = {}  # each tile's samples after the last finished pass
+        self._plan: list[tuple[int, int]] = []  # (sample_begin, spp) of the passes to come, if known
+        self._ahead: dict[tuple[int, int], tuple[list, list]] = {}  # passes queued behind the running one
+        #: The largest pass in samples over the image: PASS_SAMPLES per two threads (what a pass is locally).
+        self.pass_samples = PASS_SAMPLES * max(1, self.threads // 2)
 
     def _start(self, film) -> tuple:
         """Each tile's state before the first pass here: none, or a resumed film split into tiles."""
@@ -211,20 +218,53 @@ class TiledPasses:
             states.append({"film": part, "edge_list": None})
         return tuple(self.client.scatter(states))
 
-    def __call__(self, extra: dict) -> dict:
-        from distributed import as_completed
+    def expect(self, begin: int, sizes: list[int]) -> None:
+        """The passes :func:`~warpviz.render.passes.run_passes` will ask for from sample ``begin`` (a render
+        without a time budget or noise target: :func:`~warpviz.render.passes.pass_plan`): the next
+        :data:`LOOKAHEAD` of them are queued behind each pass, so no worker waits for a pass's last tile."""
+        self._plan = []
+        for n in sizes:
+            self._plan.append((begin, int(n)))
+            begin += int(n)
 
-        progress = extra.get("progress")
-        states = self._start(extra.get("film"))
-        small = {"spp": int(extra["spp"]), "sample_begin": int(extra["sample_begin"])}
+    def _submit(self, states, begin: int, n: int) -> tuple[list, list]:
+        """One pass of every tile, continuing ``states``: the tiles' result and summary futures."""
+        small = {"spp": n, "sample_begin": begin}
         self._pass += 1
         keys = [f"warpviz-{self._run}-pass{self._pass}-tile{i}" for i in range(len(self.tiles))]
         results = [self.client.submit(_tile_pass, self.native, self.options, t, s, small, key=k, pure=False)
                    for t, s, k in zip(self.tiles, states, keys)]  # fmt: skip
         summaries = [self.client.submit(_summary, r, key=k + "-summary", pure=False) for r, k in zip(results, keys)]
+        return results, summaries
+
+    def _queue_ahead(self, begin: int, n: int, results: list) -> None:
+        if (begin, n) not in self._plan:
+            return
+        at = self._plan.index((begin, n))
+        for nxt in self._plan[at + 1:at + 1 + LOOKAHEAD]:
+            if nxt not in self._ahead:
+                self._ahead[nxt] = self._submit(results, *nxt)
+            results = self._ahead[nxt][0]
+
+    def _drop_ahead(self) -> None:
+        for results, summaries in self._ahead.values():
+            self.client.cancel(results + summaries)
+        self._ahead.clear()
+
+    def __call__(self, extra: dict) -> dict:
+        from distributed import as_completed
+
+        progress = extra.get("progress")
+        begin, n = int(extra["sample_begin"]), int(extra["spp"])
+        if (begin, n) in self._ahead:  # queued behind the last pass, maybe running already
+            results, summaries = self._ahead.pop((begin, n))
+        else:
+            self._drop_ahead()
+            results, summaries = self._submit(self._start(extra.get("film")), begin, n)
+        self._queue_ahead(begin, n, results)
         index = {s.key: i for i, s in enumerate(summaries)}
         got: dict[int, dict] = {}
-        expected = small["spp"] * self.window[2] * self.window[3]  # (edge pixels add a few)
+        expected = n * self.window[2] * self.window[3]  # (edge pixels add a few)
         t0 = time.perf_counter()
         try:
             for fut in as_completed(summaries):
@@ -234,6 +274,7 @@ class TiledPasses:
                     added = done - sum(self._samples.get(i, 0) for i in got)
                     progress(added, max(added, expected))
         except KeyboardInterrupt:
+            self._drop_ahead()
             self.client.cancel([r for i, r in enumerate(results) if i not in got] + summaries)
             partial = TileFilms(self.tiles, tuple(r if i in got else None for i, r in enumerate(results)),
                                 sum(r["samples"] for r in got.values()), self.window)  # fmt: skip

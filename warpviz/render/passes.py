@@ -35,22 +35,22 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = ["PASS_SAMPLES", "PassReport", "standard_pass", "next_pass", "noise_estimate", "run_passes", "PassesDone",
-           "concat_rays", "film_samples"]  # fmt: skip
+           "concat_rays", "film_samples", "pass_plan"]  # fmt: skip
 
 #: At most this many samples over the image in one pass (~30 s of the fig07 room at 640x480 on 2 cores):
 #: Ctrl-C loses at most one pass, and a time budget is kept to within one.
 PASS_SAMPLES = 1 << 21
 
 
-def standard_pass(done: int, *, npix: int) -> int:
+def standard_pass(done: int, *, npix: int, pass_samples: int = PASS_SAMPLES) -> int:
     """Samples per pixel of the pass after ``done``: ``done`` (doubling the total; 1 first), at most
-    :data:`PASS_SAMPLES` / ``npix`` and at least 1."""
-    cap = max(1, PASS_SAMPLES // max(1, int(npix)))
+    ``pass_samples`` (:data:`PASS_SAMPLES`) / ``npix`` and at least 1."""
+    cap = max(1, int(pass_samples) // max(1, int(npix)))
     return max(1, min(int(done), cap))
 
 
 def next_pass(*, done: int, npix: int, spp: int | None, seconds_left: float | None,
-              seconds_per_spp: float | None) -> int | None:
+              seconds_per_spp: float | None, pass_samples: int = PASS_SAMPLES) -> int | None:
     """Samples per pixel of the next pass, or None when the render is done.
 
     Parameters
@@ -66,6 +66,8 @@ def next_pass(*, done: int, npix: int, spp: int | None, seconds_left: float | No
     seconds_per_spp : float or None, keyword-only
         Measured seconds per sample per pixel (None before the first pass, which always runs: with a time
         budget it is then one sample per pixel, to measure the speed).
+    pass_samples : int, keyword-only
+        At most this many samples over the image in one pass (a cluster's passes are larger).
 
     Returns
     -------
@@ -73,7 +75,7 @@ def next_pass(*, done: int, npix: int, spp: int | None, seconds_left: float | No
         The standard pass, cut to reach ``spp`` exactly and shrunk to what fits in ``seconds_left``;
         None when ``spp`` is reached or not one more sample per pixel fits.
     """
-    n = standard_pass(done, npix=npix)
+    n = standard_pass(done, npix=npix, pass_samples=pass_samples)
     if spp is not None:
         if done >= spp:
             return None
@@ -203,7 +205,8 @@ def _add_stats(total: dict, add: dict) -> dict:
 def run_passes(render_range: Callable[[dict], dict], start: PassesDone, *, npix: int, spp: int | None,
                seconds: float | None, noise: float | None, clock: Callable[[], float],
                progress: Callable[[int, int], object] | None = None,
-               on_pass: Callable[[PassReport], object] | None = None) -> tuple[PassesDone, bool, str]:
+               on_pass: Callable[[PassReport], object] | None = None,
+               pass_samples: int = PASS_SAMPLES) -> tuple[PassesDone, bool, str]:
     """Render passes until a limit is reached or the render is interrupted.
 
     Parameters
@@ -226,6 +229,8 @@ def run_passes(render_range: Callable[[dict], dict], start: PassesDone, *, npix:
         projected from the speed so far).
     on_pass : callable, optional, keyword-only
         Called with a :class:`PassReport` after every pass.
+    pass_samples : int, keyword-only
+        The largest pass in samples over the image (:func:`standard_pass`).
 
     Returns
     -------
@@ -244,7 +249,8 @@ def run_passes(render_range: Callable[[dict], dict], start: PassesDone, *, npix:
             if noise is not None and state.noise <= noise:
                 return state, True, "noise"
             left = None if seconds is None else seconds - (clock() - t0)
-            n = next_pass(done=state.spp, npix=npix, spp=spp, seconds_left=left, seconds_per_spp=rate)
+            n = next_pass(done=state.spp, npix=npix, spp=spp, seconds_left=left, seconds_per_spp=rate,
+                          pass_samples=pass_samples)  # fmt: skip
             if n is None:
                 return state, True, "spp" if spp is not None and state.spp >= spp else "time"
             t_pass = clock()
@@ -284,6 +290,22 @@ def run_passes(render_range: Callable[[dict], dict], start: PassesDone, *, npix:
                                    noise=state.noise))  # fmt: skip
     except KeyboardInterrupt:
         return state, False, "interrupted"
+
+
+def pass_plan(done: int, *, npix: int, spp: int, pass_samples: int = PASS_SAMPLES) -> list[int]:
+    """The pass sizes a render without a time budget or noise target runs from ``done`` to ``spp``.
+
+    Examples
+    --------
+    >>> pass_plan(0, npix=100, spp=20)
+    [1, 1, 2, 4, 8, 4]
+    """
+    plan = []
+    while (n := next_pass(done=done, npix=npix, spp=spp, seconds_left=None, seconds_per_spp=None,
+                          pass_samples=pass_samples)) is not None:  # fmt: skip
+        plan.append(n)
+        done += n
+    return plan
 
 
 def film_samples(film) -> int:

@@ -39,7 +39,7 @@ from warpviz.options import FILTER_RADII, check_option
 from warpviz.render.denoise import DENOISE_FEATURES, require_denoiser
 from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
-from warpviz.render.passes import PassesDone, PassReport, concat_rays, run_passes
+from warpviz.render.passes import PASS_SAMPLES, PassesDone, PassReport, concat_rays, pass_plan, run_passes
 from warpviz.render.resume import film_from_image, read_exr, resume_problem, resume_settings, scene_sha256
 from warpviz.scene.native import native_scene, scene_emits
 from warpviz.spacetime import metric_from_params
@@ -341,17 +341,22 @@ def render(
     def render_range(extra: dict) -> dict:
         return core.render(native, {**core_options, **extra})
 
+    pass_samples = PASS_SAMPLES
+
     if client is not None:  # the same passes, each one's tiles as tasks on the cluster
         from warpviz.render.distributed import TiledPasses, check_workers
 
         check_workers(client)
         core_options["threads"] = options["threads"] or 1
         render_range = TiledPasses(client, native, core_options, tile=tile)
+        pass_samples = render_range.pass_samples
+        if not limited:  # the passes are known: each one's successors queue behind it
+            render_range.expect(start.spp, pass_plan(start.spp, npix=cw * ch, spp=target, pass_samples=pass_samples))
 
     t0 = time.perf_counter()
     done, completed, stopped_by = run_passes(
         render_range, start, npix=cw * ch, spp=target, seconds=time_limit, noise=noise_target,
-        clock=time.perf_counter, progress=progress, on_pass=on_pass)  # fmt: skip
+        clock=time.perf_counter, progress=progress, on_pass=on_pass, pass_samples=pass_samples)  # fmt: skip
     film = done.film if client is None or done.film is None else done.film.gather(client)
     if film is None:  # stopped before the first pass had rendered anything: nothing to return
         raise KeyboardInterrupt
