@@ -337,7 +337,11 @@ def cluster_client(*, workers: int | None = None, address: str | None = None):
     if workers is not None:
         if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
             raise ValueError(f"workers must be a positive integer, got {workers!r}")
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
+        import logging
+
+        # the workers' own warnings (a cancelled task after Ctrl-C) are not the user's business
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                               silence_logs=logging.ERROR)  # fmt: skip
         client = Client(cluster)
     else:
         cluster = None
