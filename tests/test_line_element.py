@@ -1,0 +1,123 @@
+"""Spacetimes from their line element (warpviz/spacetime/line_element/): the whitelist grammar refuses
+hostile text with its column and never runs it; line elements give the built-in metrics' g^{μν} and
+Hamilton equations to rounding; spherical input equals Cartesian input."""
+
+import numpy as np
+import pytest
+import sympy
+
+from warpviz._native import testing
+from warpviz.spacetime.line_element import ExpressionError, parse_expression
+from warpviz.spacetime.line_element.tensor import LineElement, LineElementError
+
+POINTS = ([0.0, 3.0, 1.0, 4.0], [0.0, -7.0, 2.0, 0.5], [0.0, 0.0, 0.0, 9.0], [2.0, 5.0, -3.0, 0.0])
+MOMENTUM = [-1.0, 0.3, -0.2, 0.9]
+
+SCHWARZSCHILD_KS = "-dt**2 + dx**2 + dy**2 + dz**2 + 2*M/r*(dt + (x*dx + y*dy + z*dz)/r)**2"
+RN_SPHERICAL = "-(1 - 2*M/r + Q**2/r**2)*dt**2 + dr**2/(1 - 2*M/r + Q**2/r**2) + r**2*dOmega**2"
+
+
+@pytest.mark.parametrize("text, column, says", [
+    ('__import__("os").system("x")', 12, "unexpected character '\"'"),
+    ("M.__class__", 2, "unexpected character '.'"),
+    ("M r", 3, "expected an operator"),
+    ("r**100000", 2, "exponent 100000 is larger than 64"),
+    ("eval(r)", 1, "unknown function 'eval'"),
+    ("lambda_(r)", 1, "unknown function 'lambda_'"),
+    ("1/(M - M)", 2, "division by zero"),
+    ("sqrt(r", 7, "expected ',' or ')'"),
+    ("sin r", 1, "sin is a function"),
+    ("atan2(r)", 1, "atan2 takes 2 arguments"),
+    ("r; M", 2, "unexpected character ';'"),
+    ("q", 1, "unknown name 'q'"),
+    ("(" * 70 + "r" + ")" * 70, 65, "nested deeper than 64"),
+    ("", 1, "empty"),
+])  # fmt: skip
+def test_the_grammar_refuses_hostile_and_broken_text_naming_the_column(text, column, says):
+    r, M = sympy.symbols("r M", positive=True)
+    with pytest.raises(ExpressionError) as err:
+        parse_expression(text, {"r": r, "M": M})
+    assert err.value.column == column and says in str(err.value)
+
+
+def test_the_grammar_reads_numbers_exactly_and_powers_right_to_left():
+    x = sympy.Symbol("x")
+    assert parse_expression("0.1 + 1e-3", {}) == sympy.Rational(101, 1000)
+    assert parse_expression("2^3^2", {}) == 512 and parse_expression("-x**-2", {"x": x}) == -(x**-2)
+    assert parse_expression("atan2(x, 1) + pi", {"x": x}) == sympy.atan2(x, 1) + sympy.pi
+    with pytest.raises(ExpressionError, match="longer than 4000"):
+        parse_expression("x+" * 2001 + "x", {"x": x})
+
+
+def test_no_python_is_ever_run(monkeypatch):
+    """The parser never reaches eval, exec or sympy's string parser, whatever the text."""
+    import builtins
+
+    import sympy.parsing.sympy_parser as sympy_parser
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("eval, exec or parse_expr was called")
+
+    parse_expression("r**2 + sin(r)", {"r": sympy.Symbol("r")})  # sympy's lazy imports (which exec) done first
+
+    monkeypatch.setattr(builtins, "eval", refuse)
+    monkeypatch.setattr(builtins, "exec", refuse)
+    monkeypatch.setattr(sympy_parser, "parse_expr", refuse)
+    for text in ('__import__("os")', "().__class__", "open('x')", "r**2 + sin(r)"):
+        try:
+            parse_expression(text, {"r": sympy.Symbol("r")})
+        except ExpressionError:
+            pass
+
+
+def test_kerr_schild_schwarzschild_equals_the_built_in_metric():
+    le = LineElement(SCHWARZSCHILD_KS, parameters=["M"])
+    for x in POINTS:
+        gi = np.linalg.inv(le.metric_at(x, {"M": 1.3}))
+        np.testing.assert_allclose(gi, testing.inverse_metric("schwarzschild", [1.3], np.array(x)), rtol=0, atol=1e-15)
+        y = np.array(x + MOMENTUM)
+        built_in = testing.rhs("schwarzschild", [1.3], y)
+        np.testing.assert_allclose(le.rhs_at(y, {"M": 1.3}), built_in, rtol=0, atol=1e-15 * np.abs(built_in).max())
+    assert le.symmetries({"M": 1.3}) == {"stationary": True, "axisymmetric": True}
+
+
+def test_spherical_reissner_nordstrom_equals_its_cartesian_form_also_next_to_the_pole():
+    sph = LineElement(RN_SPHERICAL, coordinates="spherical", parameters=["M", "Q"])
+    spelled = LineElement("-(1 - 2*M/r + Q**2/r**2)*dt**2 + dr**2/(1 - 2*M/r + Q**2/r**2) + "
+                          "r**2*(dtheta**2 + sin(theta)**2*dphi**2)", coordinates="spherical", parameters=["M", "Q"])
+    cart = LineElement("-f*dt**2 + dx**2 + dy**2 + dz**2 + (1/f - 1)*((x*dx + y*dy + z*dz)/r)**2",
+                       parameters=["M", "Q"], definitions={"f": "1 - 2*M/r + Q**2/r**2"})  # fmt: skip
+    params = {"M": 1.0, "Q": 0.6}
+    for x in (*POINTS, [0.0, 1e-9, -2e-9, 7.0]):  # the last a hair off the z axis
+        want = cart.metric_at(x, params)
+        np.testing.assert_allclose(sph.metric_at(x, params), want, rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(spelled.metric_at(x, params), want, rtol=1e-12, atol=1e-12)
+    assert sph.g[0, 0].free_symbols >= {sph.params[0]}
+
+
+def test_a_time_dependent_or_twisted_metric_is_told_apart():
+    wave = LineElement("-dt**2 + dx**2 + dy**2 + dz**2 + exp(-(x - t)**2)*dx*dt")
+    assert wave.symmetries({}) == {"stationary": False, "axisymmetric": False}
+    assert sympy.simplify(wave.g[0, 1] - sympy.exp(-(wave.coords[1] - wave.coords[0]) ** 2) / 2) == 0
+
+
+@pytest.mark.parametrize("kwargs, where, says", [
+    ({"line_element": "-dt**2 + dx**2 + dt*dx*dy"}, "line_element", "3 differentials"),
+    ({"line_element": "-dt**2 + sin(dx)"}, "line_element", "coefficient times two differentials"),
+    ({"line_element": "dx**2 + dy**2 + dz**2"}, "line_element", "no dt term"),
+    ({"line_element": "-dt**2 + r**2*dOmega", "coordinates": "spherical"}, "line_element", "one has dOmega"),
+    ({"line_element": "-dt**2 + dr*dOmega", "coordinates": "spherical"}, "line_element", "dOmega may appear only"),
+    ({"line_element": "-dt**2 + dr**2 + theta*dphi**2", "coordinates": "spherical"}, "line_element",
+     "theta and phi may appear only inside sin"),
+    ({"line_element": "-dt**2 + dx**2", "parameters": ["x"]}, "parameters", "not a usable parameter name"),
+    ({"line_element": "-dt**2 + dx**2", "parameters": ["__class__"]}, "parameters", "not a usable parameter name"),
+    ({"line_element": "-dt**2 + dx**2 + M*dy**2", "parameters": ["M", "M"]}, "parameters", "given twice"),
+    ({"line_element": "-dt**2 + dx**2 + f*dy**2", "definitions": {"f": "1 + q"}}, "definitions.f", "unknown name 'q'"),
+    ({"line_element": "-dt**2 + dx**2 +* dy**2"}, "line_element", "expected a number"),
+    ({"line_element": "-dt**2 + dx**2", "coordinates": "polar"}, "coordinates", "must be one of"),
+])  # fmt: skip
+def test_bad_line_elements_are_named(kwargs, where, says):
+    text = kwargs.pop("line_element")
+    with pytest.raises(LineElementError) as err:
+        LineElement(text, **kwargs)
+    assert err.value.where == where and says in str(err.value)
