@@ -115,6 +115,8 @@ class LineElement:
                 raise LineElementError("parameters", f"{p!r} is given twice")
             names[p] = sympy.Symbol(p, real=True)
         self.params = tuple(names.values())
+        #: Scalar definitions in order: (symbol, expression, gradient symbols, gradient expressions).
+        self.definitions: list[tuple] = []
         # the chart's symbols for the names an expression may use
         self._theta_phi = None
         if coordinates == "cartesian":
@@ -142,10 +144,30 @@ class LineElement:
                     or name in reserved or name in _FUNC_NAMES:  # fmt: skip
                 raise LineElementError("definitions", f"{name!r} is not a usable name for a definition (letters, "
                                        "digits and _; not a parameter, coordinate, differential or function name)")
-            names[name] = self._parse(text, names, where)  # (a one-form such as l = dt + x*dx/r is fine)
+            value = self._parse(text, names, where)  # (a one-form such as l = dt + x*dx/r is inlined)
+            if coordinates == "cartesian" and not value.free_symbols & set(diffs):
+                names[name] = self._define(name, value)
+            else:
+                names[name] = value
         expr = self._parse(line_element, names, "line_element")
         self.g = self._components(expr, names, diffs, to_cartesian)
-        self.dg = [self.g.diff(c) for c in self.coords]
+        self.dg = [self._d(self.g, mu) for mu in range(4)]
+
+    def _define(self, name: str, value: sympy.Basic) -> sympy.Symbol:
+        """A scalar definition as a symbol of its own, with symbols for its gradient (the chain rule keeps the
+        derivatives as small as the definitions: Kerr's r(x, y, z) is not expanded into every component)."""
+        sym = sympy.Symbol(name, real=True)
+        grads = tuple(sympy.Symbol(f"d{name}_d{c}", real=True) for c in "txyz")
+        self.definitions.append((sym, value, grads, tuple(self._d(value, mu) for mu in range(4))))
+        return sym
+
+    def _d(self, expr, mu: int):
+        """∂expr/∂x^μ through the definitions (each definition's derivative is its gradient symbol)."""
+        out = expr.diff(self.coords[mu])
+        for sym, _, grads, _ in self.definitions:
+            if expr.has(sym):
+                out += expr.diff(sym) * grads[mu]
+        return out
 
     @staticmethod
     def _parse(text: str, names: Mapping[str, Any], where: str) -> sympy.Basic:
@@ -213,30 +235,45 @@ class LineElement:
 
     def _functions(self):
         if not hasattr(self, "_lambdas"):
-            # our own symbols only (coordinates and checked parameter names), printed by sympy: safe to compile
-            dummies = sympy.symbols(f"a0:{4 + len(self.params)}", real=True)
-            rename = dict(zip((*self.coords, *self.params), dummies))
-            self._lambdas = (sympy.lambdify(dummies, self.g.subs(rename).tolist(), "math", cse=True),
-                             [sympy.lambdify(dummies, d.subs(rename).tolist(), "math", cse=True) for d in self.dg])  # fmt: skip
+            # our own symbols only (coordinates, checked parameter and definition names), printed by sympy:
+            # safe to compile
+            inputs = [*self.coords, *self.params]
+            steps = []
+            for sym, value, grads, grad_values in self.definitions:
+                steps.append(self._lambdify(inputs, [value, *grad_values]))
+                inputs += [sym, *grads]
+            self._lambdas = (steps, self._lambdify(inputs, self.g.tolist()),
+                             [self._lambdify(inputs, d.tolist()) for d in self.dg])  # fmt: skip
         return self._lambdas
+
+    @staticmethod
+    def _lambdify(inputs: list, exprs: list):
+        """A Python function of ``inputs`` returning ``exprs`` (a list, or a list of rows), with every symbol
+        renamed a0, a1, ... first."""
+        rename = dict(zip(inputs, sympy.symbols(f"a0:{len(inputs)}", real=True)))
+        sub = [[c.subs(rename) for c in row] if isinstance(row, list) else row.subs(rename) for row in exprs]
+        return sympy.lambdify(list(rename.values()), sub, "math")
 
     def _args(self, x: Sequence[float], params: Mapping[str, float]) -> list[float]:
         names = [p.name for p in self.params]
         missing = [n for n in names if n not in params]
         if missing:
             raise LineElementError("parameters", f"no value for {', '.join(missing)}")
-        return [float(v) for v in x] + [float(params[n]) for n in names]
+        args = [float(v) for v in x] + [float(params[n]) for n in names]
+        for step in self._functions()[0]:
+            args += [float(v) for v in step(*args)]
+        return args
 
     def metric_at(self, x: Sequence[float], params: Mapping[str, float]) -> np.ndarray:
         """g_{μν} at chart point ``x`` = (t, x, y, z), shape (4, 4) float64."""
-        return np.array(self._functions()[0](*self._args(x, params)), dtype=np.float64)
+        return np.array(self._functions()[1](*self._args(x, params)), dtype=np.float64)
 
     def rhs_at(self, y: Sequence[float], params: Mapping[str, float]) -> np.ndarray:
         """Hamilton's equations at state ``y`` = (x^μ, p_μ), shape (8,): dx^μ/dλ = g^{μν} p_ν and
         dp_μ/dλ = ½ u^α u^β ∂_μ g_{αβ} with u = g⁻¹ p (the form the generated code uses: the inverse is
         numeric, only g and ∂g are symbolic)."""
         args = self._args(y[:4], params)
-        g_fn, dg_fn = self._functions()
+        _, g_fn, dg_fn = self._functions()
         g = np.array(g_fn(*args), dtype=np.float64)
         u = np.linalg.solve(g, np.asarray(y[4:], dtype=np.float64))
         dp = [0.5 * u @ np.array(d(*args), dtype=np.float64) @ u for d in dg_fn]
@@ -258,8 +295,8 @@ class LineElement:
             direction = rng.normal(size=3)
             x = [float(rng.uniform(-5, 5)), *(direction / np.linalg.norm(direction) * rng.uniform(2.0, 20.0))]
             args = self._args(x, params)
-            g = np.array(self._functions()[0](*args), dtype=np.float64)
-            dg = [np.array(d(*args), dtype=np.float64) for d in self._functions()[1]]
+            g = np.array(self._functions()[1](*args), dtype=np.float64)
+            dg = [np.array(d(*args), dtype=np.float64) for d in self._functions()[2]]
             scale = np.abs(g).max()
             if not np.all(np.isfinite(g)):
                 continue
