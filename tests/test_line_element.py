@@ -98,7 +98,7 @@ def test_kerr_written_in_kerr_schild_form_equals_the_built_in_metric():
         built_in = testing.rhs("kerr", [1.2, 0.7], y)
         np.testing.assert_allclose(le.rhs_at(y, params), built_in, rtol=0, atol=1e-15 * np.abs(built_in).max())
     assert le.symmetries(params) == {"stationary": True, "axisymmetric": True}
-    assert [d[0].name for d in le.definitions] == ["a", "w", "rk", "f"]  # l, a one-form, is inlined
+    assert [d[0].name for d in le.definitions] == ["r", "a", "w", "rk", "f"]  # l, a one-form, is inlined
 
 
 def test_spherical_reissner_nordstrom_equals_its_cartesian_form_also_next_to_the_pole():
@@ -141,3 +141,70 @@ def test_bad_line_elements_are_named(kwargs, where, says):
     with pytest.raises(LineElementError) as err:
         LineElement(text, **kwargs)
     assert err.value.where == where and says in str(err.value)
+
+
+# ------------------------------------------------------------------------------------------ generated C++
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
+
+
+def _compiled_values(le, name, values, states, tmp_path):
+    """Compile the generated struct into a small program that prints, for each state, g^{mu nu}, rhs, the
+    contract's dual-number rhs and rhs in SIMD lanes; returns them as arrays."""
+    import shutil
+    import subprocess
+
+    from warpviz.spacetime.line_element.codegen import metric_source
+
+    compiler = shutil.which("c++") or shutil.which("g++")
+    if compiler is None:
+        pytest.skip("no C++ compiler on this machine (the generated code is checked where there is one)")
+    (tmp_path / "gen.h").write_text(metric_source(le, name=name, values=values, register=False))
+    cls = "".join(p[:1].upper() + p[1:] for p in name.split("_"))
+    rows = ",".join("{" + ",".join(repr(float(v)) for v in s) + "}" for s in states)
+    params = ",".join(repr(float(values[p.name])) for p in le.params)
+    (tmp_path / "main.cpp").write_text(f"""
+#include <cstdio>
+#include "gen.h"
+int main() {{
+  const wv::{cls} m(std::vector<double>{{{params}}});
+  const double ys[][8] = {{{rows}}};
+  for (const auto& y : ys) {{
+    double gi[4][4], dy[8], da[8];
+    m.inverse_metric(y, gi);
+    m.rhs(y, dy);
+    wv::rhs_autodiff(m, y, da);
+    wv::Lanes yl[8], dl[8];
+    for (int i = 0; i < 8; ++i) yl[i] = wv::Lanes{{}} + y[i];
+    m.rhs(yl, dl);
+    for (int i = 0; i < 16; ++i) std::printf("%.17g ", gi[i / 4][i % 4]);
+    for (int i = 0; i < 8; ++i) std::printf("%.17g ", dy[i]);
+    for (int i = 0; i < 8; ++i) std::printf("%.17g ", da[i]);
+    for (int i = 0; i < 8; ++i) std::printf("%.17g ", dl[i][5]);
+    std::printf("\\n");
+  }}
+}}
+""")
+    exe = tmp_path / "harness"
+    subprocess.run([compiler, "-std=c++17", "-O1", "-ffp-contract=off", f"-I{ROOT / 'renderer_ext'}", f"-I{tmp_path}",
+                    str(tmp_path / "main.cpp"), "-o", str(exe)], check=True, capture_output=True, timeout=300)  # fmt: skip
+    out = subprocess.run([str(exe)], check=True, capture_output=True, text=True, timeout=60).stdout
+    return np.array([[float(v) for v in line.split()] for line in out.strip().splitlines()])
+
+
+@pytest.mark.parametrize("metric, text, params, definitions", [
+    ("schwarzschild", SCHWARZSCHILD_KS, {"M": 1.3}, None),
+    ("kerr", "-dt**2 + dx**2 + dy**2 + dz**2 + f*l**2", {"M": 1.2, "spin": 0.7}, KERR_DEFINITIONS),
+])  # fmt: skip
+def test_the_generated_cpp_equals_the_built_in_metric_for_doubles_duals_and_lanes(tmp_path, metric, text, params,
+                                                                                   definitions):  # fmt: skip
+    le = LineElement(text, parameters=list(params), definitions=definitions)
+    states = [x + MOMENTUM for x in POINTS]
+    got = _compiled_values(le, f"expr_{metric}", params, states, tmp_path)
+    for y, row in zip(states, got):
+        built_gi = testing.inverse_metric(metric, list(params.values()), np.array(y[:4]))
+        built = testing.rhs(metric, list(params.values()), np.array(y))
+        scale = np.abs(built).max()
+        np.testing.assert_allclose(row[:16].reshape(4, 4), built_gi, rtol=0, atol=1e-14)
+        np.testing.assert_allclose(row[16:24], built, rtol=0, atol=1e-14 * scale)  # rhs
+        np.testing.assert_allclose(row[24:32], built, rtol=0, atol=1e-12 * scale)  # the contract's dual numbers
+        np.testing.assert_array_equal(row[32:40], row[16:24])  # a lane gives the double's bits

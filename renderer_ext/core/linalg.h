@@ -1,4 +1,4 @@
-// Small dense linear algebra used by the observer frames: 4x4 inverse, 3x3 symmetric inverse square root.
+// Small dense linear algebra: 4x4 inverses, 3x3 symmetric inverse square root.
 #pragma once
 
 #include <cmath>
@@ -34,6 +34,38 @@ inline bool invert4(const double a[4][4], double inv[4][4]) {
     for (int j = 0; j < 4; ++j) inv[i][j] = m[i][j + 4];
   return true;
 }
+
+// The inverse of a 4x4 matrix by cofactors (2x2 sub-determinants), for any value type T with + - * /:
+// double, Dual<N> and Lanes alike. Branch-free, so it runs in SIMD lanes and gives exact derivatives
+// through duals, where invert4's pivoting cannot; no singularity check (a metric generated from its line
+// element, warpviz/spacetime/line_element/codegen.py, inverts g_{mu nu} here once per right-hand side).
+template <class T>
+inline void cofactor_inverse4(const T m[4][4], T out[4][4]) {
+  const T s0 = m[0][0] * m[1][1] - m[1][0] * m[0][1], s1 = m[0][0] * m[1][2] - m[1][0] * m[0][2];
+  const T s2 = m[0][0] * m[1][3] - m[1][0] * m[0][3], s3 = m[0][1] * m[1][2] - m[1][1] * m[0][2];
+  const T s4 = m[0][1] * m[1][3] - m[1][1] * m[0][3], s5 = m[0][2] * m[1][3] - m[1][2] * m[0][3];
+  const T c5 = m[2][2] * m[3][3] - m[3][2] * m[2][3], c4 = m[2][1] * m[3][3] - m[3][1] * m[2][3];
+  const T c3 = m[2][1] * m[3][2] - m[3][1] * m[2][2], c2 = m[2][0] * m[3][3] - m[3][0] * m[2][3];
+  const T c1 = m[2][0] * m[3][2] - m[3][0] * m[2][2], c0 = m[2][0] * m[3][1] - m[3][0] * m[2][1];
+  const T inv = 1.0 / (s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0);
+  out[0][0] = (m[1][1] * c5 - m[1][2] * c4 + m[1][3] * c3) * inv;
+  out[0][1] = (-m[0][1] * c5 + m[0][2] * c4 - m[0][3] * c3) * inv;
+  out[0][2] = (m[3][1] * s5 - m[3][2] * s4 + m[3][3] * s3) * inv;
+  out[0][3] = (-m[2][1] * s5 + m[2][2] * s4 - m[2][3] * s3) * inv;
+  out[1][0] = (-m[1][0] * c5 + m[1][2] * c2 - m[1][3] * c1) * inv;
+  out[1][1] = (m[0][0] * c5 - m[0][2] * c2 + m[0][3] * c1) * inv;
+  out[1][2] = (-m[3][0] * s5 + m[3][2] * s2 - m[3][3] * s1) * inv;
+  out[1][3] = (m[2][0] * s5 - m[2][2] * s2 + m[2][3] * s1) * inv;
+  out[2][0] = (m[1][0] * c4 - m[1][1] * c2 + m[1][3] * c0) * inv;
+  out[2][1] = (-m[0][0] * c4 + m[0][1] * c2 - m[0][3] * c0) * inv;
+  out[2][2] = (m[3][0] * s4 - m[3][1] * s2 + m[3][3] * s0) * inv;
+  out[2][3] = (-m[2][0] * s4 + m[2][1] * s2 - m[2][3] * s0) * inv;
+  out[3][0] = (-m[1][0] * c3 + m[1][1] * c1 - m[1][2] * c0) * inv;
+  out[3][1] = (m[0][0] * c3 - m[0][1] * c1 + m[0][2] * c0) * inv;
+  out[3][2] = (-m[3][0] * s3 + m[3][1] * s1 - m[3][2] * s0) * inv;
+  out[3][3] = (m[2][0] * s3 - m[2][1] * s1 + m[2][2] * s0) * inv;
+}
+
 
 // out = G^{-1/2} for a symmetric positive definite 3x3 matrix G (cyclic Jacobi eigen-decomposition).
 // Returns false if G is not positive definite.

@@ -120,7 +120,7 @@ class LineElement:
         # the chart's symbols for the names an expression may use
         self._theta_phi = None
         if coordinates == "cartesian":
-            names.update({"t": t, "x": x, "y": y, "z": z, "r": r})
+            names.update({"t": t, "x": x, "y": y, "z": z, "r": self._define("r", r)})
             diffs = sympy.symbols("dt dx dy dz")
             names.update(dict(zip(("dt", "dx", "dy", "dz"), diffs)))
             to_cartesian = dict(zip(diffs, diffs))

@@ -1,0 +1,299 @@
+"""C++ for a metric given by its line element: a struct that satisfies the metric contract of
+``renderer_ext/spacetime/metric.h`` like the hand-written files, templated over the value type (double,
+``Dual<N>`` for the contract's automatic derivatives, ``Lanes`` for the SIMD batches).
+
+What is generated from a :class:`~warpviz.spacetime.line_element.tensor.LineElement`:
+
+- ``metric(x, g)`` and ``metric_and_derivatives(x, g, dg)``: g_{μν} and ∂_λ g_{μν} as straight-line code,
+  each scalar definition computed once with its gradient (the chain rule of the tensor module), and sympy's
+  common subexpressions eliminated;
+- ``inverse_metric`` = the numeric inverse of g (``cofactor_inverse4`` in ``core/linalg.h``), and ``rhs`` = Hamilton's
+  equations in the form dx^μ/dλ = u^μ = g^{μν} p_ν, dp_λ/dλ = ½ u^μ u^ν ∂_λ g_{μν} (no symbolic inverse:
+  it would be large, and its derivative larger);
+- the conserved quantities it has (E where g does not depend on t, L_z where it is axisymmetric, H always).
+
+Only names the generator makes appear in the code (``x[i]``, ``p_[i]``, ``d_<definition>``, ``c<k>``);
+a parameter or definition name is never pasted into C++ except inside a comment, after the grammar has
+limited it to letters, digits and underscores.
+
+Examples
+--------
+>>> from warpviz.spacetime.line_element.tensor import LineElement
+>>> le = LineElement("-(1 - 2*M/r)*dt**2 + dx**2 + dy**2 + dz**2", parameters=["M"])
+>>> src = metric_source(le, name="weak_field", values={"M": 1.0})
+>>> "struct WeakField" in src and "cofactor_inverse4(g, gi);" in src
+True
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+from collections.abc import Mapping
+
+import sympy
+from sympy.printing.c import C99CodePrinter
+
+from warpviz.spacetime.line_element.tensor import LineElement
+
+__all__ = ["metric_source", "source_hash"]
+
+_FUNCTIONS = {"exp": "exp_of", "log": "log_of", "sin": "sin_of", "cos": "cos_of", "tan": "tan_of",
+              "sinh": "sinh_of", "cosh": "cosh_of", "tanh": "tanh_of", "asin": "asin_of", "acos": "acos_of",
+              "atan": "atan_of"}  # fmt: skip
+
+
+class _Printer(C99CodePrinter):
+    """Expressions as C++ over the value type T: integer powers multiplied out, half powers through sqrt,
+    every function one that core/elementary.h defines for double, Dual and Lanes."""
+
+    def __init__(self, names: Mapping[sympy.Symbol, str]):
+        super().__init__({"strict": False})
+        self._names = dict(names)
+
+    def _print_Symbol(self, expr):
+        if expr in self._names:
+            return self._names[expr]
+        raise ValueError(f"codegen: no C++ name for symbol {expr}")  # pragma: no cover - a generator bug
+
+    _print_Dummy = _print_Symbol
+
+    def _print_Integer(self, expr):
+        return f"{int(expr)}.0"
+
+    def _print_Rational(self, expr):
+        return f"({int(expr.p)}.0 / {int(expr.q)}.0)"
+
+    def _print_Float(self, expr):
+        return repr(float(expr))
+
+    def _print_Pi(self, expr):
+        return repr(float(sympy.pi))
+
+    def _print_Pow(self, expr):
+        base, e = expr.base, expr.exp
+        b = self.parenthesize(base, 100)
+        if e.is_Integer:
+            n = int(e)
+            if n == 0:
+                return "1.0"
+            prod = "*".join([b] * abs(n))
+            return f"({prod})" if n > 0 else f"(1.0 / ({prod}))"
+        if e.is_Rational and e.q == 2:
+            n = int(e.p)
+            root = f"sqrt({self._print(base)})"
+            rest = "*".join([b] * (abs(n) // 2))
+            value = f"({root}*{rest})" if rest else root
+            return value if n > 0 else f"(1.0 / {value})"
+        return f"exp_of(({self._print(e)})*log_of({self._print(base)}))"
+
+    def _print_Function(self, expr):
+        name = type(expr).__name__
+        if name in _FUNCTIONS:
+            return f"{_FUNCTIONS[name]}({self._print(expr.args[0])})"
+        raise ValueError(f"codegen: function {name} has no C++ form")  # pragma: no cover
+
+    def _print_sqrt(self, expr):  # pragma: no cover - sympy prints sqrt as Pow
+        return f"sqrt({self._print(expr.args[0])})"
+
+    def _print_Abs(self, expr):
+        return f"fabs_of({self._print(expr.args[0])})"
+
+    def _print_atan2(self, expr):
+        return f"atan2_of({self._print(expr.args[0])}, {self._print(expr.args[1])})"
+
+
+def source_hash(le: LineElement) -> str:
+    """A short hash of what decides the generated code (the metric's symbolic components and definitions)."""
+    text = repr((le.coordinates, [p.name for p in le.params], [(d[0].name, str(d[1])) for d in le.definitions],
+                 str(le.g)))  # fmt: skip
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _straight_line(exprs: list, names: dict, tvals: set, counter: list) -> tuple[list, list, list]:
+    """Common subexpressions of ``exprs`` as C++ lines. A value that depends on a T-valued symbol (a
+    coordinate, or something made from one) is a T, the others doubles (a SIMD vector cannot be initialised
+    from a double). Returns (lines, printed expressions, whether each is T-valued)."""
+    fresh = (sympy.Dummy(f"cse{i}") for i in itertools.count())  # never the same symbol in two calls
+    replacements, reduced = sympy.cse(exprs, symbols=fresh, order="none")
+    lines = []
+    for sym, value in replacements:
+        cname = f"c{counter[0]}"
+        counter[0] += 1
+        is_t = bool(value.free_symbols & tvals)
+        lines.append(f"    const {'T' if is_t else 'double'} {cname} = {_Printer(names).doprint(value)};")
+        names[sym] = cname
+        if is_t:
+            tvals.add(sym)
+    return lines, [_Printer(names).doprint(e) for e in reduced], [bool(e.free_symbols & tvals) for e in reduced]
+
+
+def _as_t(text: str, is_t: bool) -> str:
+    """``text`` as a T: a double-valued expression is lifted (``T{} + v``: exact, and a vector broadcast)."""
+    return text if is_t else f"T{{}} + ({text})"
+
+
+def _body(le: LineElement, with_derivatives: bool) -> list[str]:
+    names: dict[sympy.Symbol, str] = {c: f"x[{i}]" for i, c in enumerate(le.coords)}
+    names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
+    tvals = set(le.coords)
+    counter = [0]
+    lines = []
+    for k, (sym, value, grads, grad_values) in enumerate(le.definitions):
+        exprs = [value, *grad_values] if with_derivatives else [value]
+        pre, printed, is_t = _straight_line(exprs, names, tvals, counter)
+        lines += pre
+        lines.append(f"    const {'T' if is_t[0] else 'double'} d{k} = {printed[0]};  // {sym.name}")
+        names[sym] = f"d{k}"
+        if is_t[0]:
+            tvals.add(sym)
+        if with_derivatives:
+            for mu, g in enumerate(grads):
+                lines.append(f"    const {'T' if is_t[1 + mu] else 'double'} d{k}_{mu} = {printed[1 + mu]};")
+                names[g] = f"d{k}_{mu}"
+                if is_t[1 + mu]:
+                    tvals.add(g)
+    pairs = [(a, b) for a in range(4) for b in range(a, 4)]
+    exprs = [le.g[a, b] for a, b in pairs]
+    if with_derivatives:
+        exprs += [le.dg[m][a, b] for m in range(4) for a, b in pairs]
+    pre, printed, is_t = _straight_line(exprs, names, tvals, counter)
+    lines += pre
+    for (a, b), text, t in zip(pairs, printed, is_t):
+        lines.append(f"    g[{a}][{b}] = {_as_t(text, t)};" + (f"\n    g[{b}][{a}] = g[{a}][{b}];" if a != b else ""))
+    if with_derivatives:
+        n = len(pairs)
+        for m in range(4):
+            for (a, b), text, t in zip(pairs, printed[n * (1 + m): n * (2 + m)], is_t[n * (1 + m): n * (2 + m)]):
+                lines.append(f"    dg[{m}][{a}][{b}] = {_as_t(text, t)};"
+                             + (f"\n    dg[{m}][{b}][{a}] = dg[{m}][{a}][{b}];" if a != b else ""))  # fmt: skip
+    return lines
+
+
+def _class_name(name: str) -> str:
+    return "".join(part[:1].upper() + part[1:] for part in name.split("_") if part) or "Custom"
+
+
+def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], summary: str = "",
+                  register: bool = True) -> str:  # fmt: skip
+    """The C++ of a metric struct for ``le`` (module docstring).
+
+    Parameters
+    ----------
+    le : LineElement
+    name : str, keyword-only
+        Registry name (letters, digits, underscores); the struct is its CamelCase form.
+    values : mapping of str to float, keyword-only
+        Default value of each parameter (the registry's default and example).
+    summary : str, keyword-only
+        One line for the registry (default: the line element's kind).
+    register : bool, keyword-only
+        End with ``WARPVIZ_REGISTER_METRIC`` (a plugin); False for a test harness that includes the struct.
+
+    Returns
+    -------
+    str
+        A complete C++ file.
+    """
+    if not name.replace("_", "").isalnum() or not name[:1].isalpha():
+        raise ValueError(f"a metric name is letters, digits and _, starting with a letter, got {name!r}")
+    cls = _class_name(name)
+    sym = le.symmetries(values)
+    invariants = ["H"] + (["E"] if sym["stationary"] else []) + (["Lz"] if sym["axisymmetric"] else [])
+    specs = ",\n      ".join(
+        f'{{"{p.name}", -kUnbounded, true, kUnbounded, true, {float(values[p.name])!r}, {float(values[p.name])!r}, '
+        f'"parameter {p.name} of the line element"}}' for p in le.params)  # fmt: skip
+    param_block = (f"  static constexpr ParamSpec kParams[] = {{\n      {specs}}};\n"
+                   f"  static constexpr int kNumParams = {len(le.params)};\n") if le.params else ""  # fmt: skip
+    conserved, scales = [], []
+    for k, inv in enumerate(invariants[1:], start=1):
+        if inv == "E":
+            conserved.append(f"    out[{k}] = -y[4];\n    if (mag) mag[{k}] = std::fabs(y[4]);")
+            scales.append(f"    scale[{k}] = energy_scale(y, inv[{k}]);")
+        else:
+            conserved.append(f"    out[{k}] = y[1] * y[6] - y[2] * y[5];\n"
+                             f"    if (mag) mag[{k}] = std::fabs(y[1] * y[6]) + std::fabs(y[2] * y[5]);")  # fmt: skip
+            scales.append(f"    scale[{k}] = std::max(std::fabs(inv[{k}]), radius(y) * energy_scale(y, -y[4]));")
+    names = ", ".join(f'"{n}"' for n in invariants)
+    lines = [
+        f"// Generated by warpviz from a line element ({le.coordinates} coordinates; hash {source_hash(le)}).",
+        "// Do not edit: warpviz/spacetime/line_element/codegen.py writes it.",
+        "#include <algorithm>",
+        "#include <cmath>",
+        "#include <vector>",
+        "",
+        '#include "core/elementary.h"',
+        '#include "core/linalg.h"',
+        '#include "core/simd.h"',
+        '#include "spacetime/metric.h"',
+        *(['#include "engine/register.h"'] if register else []),
+        "",
+        "namespace wv {",
+        "",
+        f"struct {cls} : MetricBase<{cls}> {{",
+        f'  static constexpr const char* kName = "{name}";',
+        f'  static constexpr const char* kClassName = "{cls}";',
+        f'  static constexpr const char* kSummary = "{(summary or "Spacetime from its line element").replace(chr(34), "")}";',
+        param_block.rstrip("\n"),
+        f"  static constexpr int kNumInvariants = {len(invariants)};",
+        f"  static constexpr const char* kInvariantNames[kNumInvariants] = {{{names}}};",
+        f"  double p_[{max(1, len(le.params))}] = {{}};",
+        "",
+        f"  explicit {cls}(const std::vector<double>& p) {{",
+        f"    for (size_t i = 0; i < p.size() && i < {len(le.params)}; ++i) p_[i] = p[i];",
+        "  }",
+        "",
+        "  // g_{mu nu}(x)",
+        "  template <class T>",
+        "  WV_INLINE void metric(const T* x, T g[4][4]) const {",
+        *_body(le, False),
+        "  }",
+        "",
+        "  // g_{mu nu}(x) and dg[l][mu][nu] = d_l g_{mu nu}(x)",
+        "  template <class T>",
+        "  WV_INLINE void metric_and_derivatives(const T* x, T g[4][4], T dg[4][4][4]) const {",
+        *_body(le, True),
+        "  }",
+        "",
+        "  template <class T>",
+        "  void inverse_metric(const T* x, T gi[4][4]) const {",
+        "    T g[4][4];",
+        "    metric(x, g);",
+        "    cofactor_inverse4(g, gi);",
+        "  }",
+        "",
+        "  // dx^mu = u^mu = g^{mu nu} p_nu, dp_l = (1/2) u^mu u^nu d_l g_{mu nu}",
+        "  template <class T>",
+        "  WV_INLINE void rhs(const T y[8], T dy[8]) const {",
+        "    T g[4][4], dg[4][4][4], gi[4][4];",
+        "    metric_and_derivatives(y, g, dg);",
+        "    cofactor_inverse4(g, gi);",
+        "    T u[4];",
+        "    for (int a = 0; a < 4; ++a) u[a] = gi[a][0] * y[4] + gi[a][1] * y[5] + gi[a][2] * y[6] + gi[a][3] * y[7];",
+        "    for (int a = 0; a < 4; ++a) dy[a] = u[a];",
+        "    for (int l = 0; l < 4; ++l) {",
+        "      T s = u[0] * u[0] * dg[l][0][0];",
+        "      for (int a = 0; a < 4; ++a)",
+        "        for (int b = 0; b < 4; ++b)",
+        "          if (a + b > 0) s = s + u[a] * u[b] * dg[l][a][b];",
+        "      dy[4 + l] = 0.5 * s;",
+        "    }",
+        "  }",
+        "",
+        "  double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }",
+        "",
+        "  void conserved(const double y[8], const HamiltonianParts& /*hp*/, double out[], double mag[]) const {",
+        *(conserved or ["    (void)y; (void)out; (void)mag;"]),
+        "  }",
+        "  void invariant_scales(const double y[8], const double inv[], double scale[]) const {",
+        "    (void)y; (void)inv;",
+        "    scale[0] = 1.0;",
+        *scales,
+        "  }",
+        "};",
+        "",
+        *([f"WARPVIZ_REGISTER_METRIC({cls});", ""] if register else []),
+        "}  // namespace wv",
+        "",
+    ]
+    return "\n".join(line for line in lines if line is not None)
