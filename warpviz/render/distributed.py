@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from warpviz._native import core
-from warpviz.render.passes import PASS_SAMPLES, concat_rays
+from warpviz.render.passes import PASS_SAMPLES, add_stats, concat_rays
 
 __all__ = ["DEFAULT_TILE", "LOOKAHEAD", "TileFilms", "TiledPasses", "check_workers", "cluster_client", "tile_windows"]
 
@@ -163,16 +163,6 @@ def _noise(parts: list[tuple[float, float, int]]) -> float:
     return math.sqrt(var / (3 * lit)) / (level / (3 * lit)) if level > 0 else math.inf
 
 
-def _add_tile_stats(total: dict, add: dict) -> dict:
-    out = dict(total)
-    for key, value in add.items():
-        if isinstance(value, dict):
-            out[key] = _add_tile_stats(total.get(key, {}), value)
-        elif key in ("segments", "steps", "edge_pixels"):
-            out[key] = total.get(key, 0) + value
-    return out
-
-
 class TiledPasses:
     """``render_range`` for :func:`~warpviz.render.passes.run_passes` on a Dask cluster.
 
@@ -279,11 +269,15 @@ class TiledPasses:
             partial = TileFilms(self.tiles, tuple(r if i in got else None for i, r in enumerate(results)),
                                 sum(r["samples"] for r in got.values()), self.window)  # fmt: skip
             return {"completed": False, "film": partial if got else None, "stats": {}, "noise": math.nan}
+        except BaseException:  # a task failed (its error is the render's): nothing of this render keeps running
+            self._drop_ahead()
+            self.client.cancel(results + summaries)
+            raise
         ordered = [got[i] for i in range(len(self.tiles))]
         self._samples = {i: r["samples"] for i, r in enumerate(ordered)}
         stats: dict = {}
         for r in ordered:
-            stats = _add_tile_stats(stats, r["stats"])
+            stats = add_stats(stats, r["stats"], summed=("segments", "steps", "edge_pixels"))
         stats["seconds"] = time.perf_counter() - t0
         stats["threads"] = self.threads
         raw = {"completed": all(r["completed"] for r in ordered), "edge_list": None, "stats": stats,

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = ["PASS_SAMPLES", "PassReport", "standard_pass", "next_pass", "noise_estimate", "run_passes", "PassesDone",
-           "concat_rays", "film_samples", "pass_plan"]  # fmt: skip
+           "add_stats", "concat_rays", "film_samples", "pass_plan"]  # fmt: skip
 
 #: At most this many samples over the image in one pass (~30 s of the fig07 room at 640x480 on 2 cores):
 #: Ctrl-C loses at most one pass, and a time budget is kept to within one.
@@ -190,12 +190,14 @@ class PassesDone:
     noise: float = math.nan
 
 
-def _add_stats(total: dict, add: dict) -> dict:
+def add_stats(total: dict, add: dict, *, summed: tuple[str, ...] = ("seconds", "segments", "steps")) -> dict:
+    """The core's statistics of two ranges (two passes, or two tiles of one pass) as one: the ``summed`` keys
+    and nested counts added, the others (threads, edge pixels of the same window) taken from ``add``."""
     out = dict(total)
     for key, value in add.items():
         if isinstance(value, dict):
-            out[key] = _add_stats(total.get(key, {}), value)
-        elif key in ("seconds", "segments", "steps"):
+            out[key] = add_stats(total.get(key, {}), value, summed=summed)
+        elif key in summed:
             out[key] = total.get(key, 0) + value
         else:
             out[key] = value  # threads, edge_pixels: the same each pass
@@ -271,13 +273,13 @@ def run_passes(render_range: Callable[[dict], dict], start: PassesDone, *, npix:
                                 "edge_list": state.edges, "progress": poll})  # fmt: skip
             if not raw["completed"]:
                 if state.film is None:  # nothing finished yet: the partial pass is all there is
-                    state = PassesDone(raw["film"], 0, 0, None, _add_stats(state.stats, raw["stats"]),
+                    state = PassesDone(raw["film"], 0, 0, None, add_stats(state.stats, raw["stats"]),
                                        state.rays + ((raw["rays"],) if "rays" in raw else ()))  # fmt: skip
                 return state, False, "interrupted"
             added = film_samples(raw["film"]) - (film_samples(state.film) if state.film is not None else 0)
             state = PassesDone(
                 film=raw["film"], spp=state.spp + n, passes=state.passes + 1, edges=raw["edge_list"],
-                stats=_add_stats(state.stats, raw["stats"]),
+                stats=add_stats(state.stats, raw["stats"]),
                 rays=state.rays + ((raw["rays"],) if "rays" in raw else ()),
                 noise=float(raw["noise"]),
             )  # fmt: skip
