@@ -261,3 +261,15 @@ def test_dask_benchmark_quick_mode(tmp_path):
     assert {r["run"] for r in rows} == {"local", "dask", "dask-tiles", "task-cost"}
     assert all(float(r["wall_s"]) > 0 for r in rows)
     assert {int(r["tasks"]) for r in rows if r["run"] == "task-cost"} == {216, 2}
+
+
+def test_line_element_benchmark_runs_the_generated_and_the_built_in_metric(tmp_path):
+    import shutil
+
+    if not (shutil.which("c++") or shutil.which("g++")):
+        pytest.skip("no C++ compiler on this machine")
+    import bench_line_element
+
+    assert bench_line_element.main(["--metrics", "schwarzschild", "--out", str(tmp_path)]) == 0
+    [row] = read_csv(tmp_path / "line_element.csv")
+    assert row["metric"] == "schwarzschild" and float(row["ratio_double"]) > 0 and float(row["ratio_lanes"]) > 0
