@@ -170,6 +170,21 @@ def _body(le: LineElement, with_derivatives: bool) -> list[str]:
     return lines
 
 
+def _force_lines(le: LineElement) -> list[str]:
+    """dp_l = ½ u^a u^b ∂_l g_ab, summed over the components that are not identically zero (each pair a < b
+    once, doubled): a stationary metric skips ∂_t g, a sparse one most of the rest."""
+    lines = []
+    for m in range(4):
+        terms = []
+        for a in range(4):
+            for b in range(a, 4):
+                if le.dg[m][a, b] != 0:
+                    terms.append(f"u[{a}] * u[{a}] * dg[{m}][{a}][{a}]" if a == b
+                                 else f"2.0 * (u[{a}] * u[{b}] * dg[{m}][{a}][{b}])")  # fmt: skip
+        lines.append(f"    dy[{4 + m}] = " + (f"0.5 * ({' + '.join(terms)});" if terms else "T{};"))
+    return lines
+
+
 def _class_name(name: str) -> str:
     return "".join(part[:1].upper() + part[1:] for part in name.split("_") if part) or "Custom"
 
@@ -271,13 +286,7 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         "    T u[4];",
         "    for (int a = 0; a < 4; ++a) u[a] = gi[a][0] * y[4] + gi[a][1] * y[5] + gi[a][2] * y[6] + gi[a][3] * y[7];",
         "    for (int a = 0; a < 4; ++a) dy[a] = u[a];",
-        "    for (int l = 0; l < 4; ++l) {",
-        "      T s = u[0] * u[0] * dg[l][0][0];",
-        "      for (int a = 0; a < 4; ++a)",
-        "        for (int b = 0; b < 4; ++b)",
-        "          if (a + b > 0) s = s + u[a] * u[b] * dg[l][a][b];",
-        "      dy[4 + l] = 0.5 * s;",
-        "    }",
+        *_force_lines(le),
         "  }",
         "",
         "  double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }",
