@@ -124,6 +124,8 @@ def test_a_time_budget_a_noise_target_and_resume_work_on_a_cluster(cluster2, tmp
     assert resumed.metadata["spp"] == 9
     np.testing.assert_allclose(resumed.rgb, direct.rgb, rtol=1e-6, atol=1e-7)  # as a local resume: float32
     np.testing.assert_array_equal(resumed.aovs["samples"], direct.aovs["samples"])
+    again = wv.render("fig07", **SMALL, spp=9, client=client, tile=16, resume=resumed)  # at its target already
+    np.testing.assert_array_equal(again.rgb, resumed.rgb)
 
 
 def test_the_scene_files_stay_on_the_client(cluster2, tmp_path):

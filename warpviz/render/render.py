@@ -357,7 +357,7 @@ def render(
     done, completed, stopped_by = run_passes(
         render_range, start, npix=cw * ch, spp=target, seconds=time_limit, noise=noise_target,
         clock=time.perf_counter, progress=progress, on_pass=on_pass, pass_samples=pass_samples)  # fmt: skip
-    film = done.film if client is None or done.film is None else done.film.gather(client)
+    film = done.film.gather(client) if hasattr(done.film, "gather") else done.film  # tiles on a cluster, gathered
     if film is None:  # stopped before the first pass had rendered anything: nothing to return
         raise KeyboardInterrupt
     resolved = core.resolve_film(film)
