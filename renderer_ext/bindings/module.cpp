@@ -494,6 +494,10 @@ NB_MODULE(_core, m) {
         return nb::make_tuple(p.var, p.level, p.lit);
       },
       "film"_a, "The sums a film's noise estimate is made of, (var, level, lit), which add over tiles (film/film.h).");
+  m.def(
+      "noise_from_parts",
+      [](double var, double level, size_t lit) { return wv::noise(wv::NoiseParts{var, level, lit}); }, "var"_a,
+      "level"_a, "lit"_a, "The noise estimate from film_noise_parts' sums, added over tiles (film/film.h: noise).");
   m.def("trace", &trace, "metric"_a, "params"_a, "origins"_a, "directions"_a, "sheets"_a, "tol"_a, "stepper"_a,
         "max_steps"_a, "escape_radius"_a, "max_drift"_a, "rk4_step"_a, "record"_a, "threads"_a, "batch"_a, "monitor_every"_a,
         "Trace rays; see warpviz.trace for the documented interface.");

@@ -154,13 +154,9 @@ class TileFilms:
 
 
 def _noise(parts: list[tuple[float, float, int]]) -> float:
-    """The noise estimate from the tiles' sums (film/film.h: noise)."""
-    var = sum(p[0] for p in parts)
-    level = sum(p[1] for p in parts)
-    lit = sum(int(p[2]) for p in parts)
-    if lit == 0:
-        return 0.0
-    return math.sqrt(var / (3 * lit)) / (level / (3 * lit)) if level > 0 else math.inf
+    """The noise estimate from the tiles' sums (film/film.h: noise, the one formula)."""
+    return float(core.noise_from_parts(sum(p[0] for p in parts), sum(p[1] for p in parts),
+                                       sum(int(p[2]) for p in parts)))  # fmt: skip
 
 
 class TiledPasses:

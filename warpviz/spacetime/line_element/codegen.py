@@ -93,9 +93,6 @@ class _Printer(C99CodePrinter):
             return f"{_FUNCTIONS[name]}({self._print(expr.args[0])})"
         raise ValueError(f"codegen: function {name} has no C++ form")  # pragma: no cover
 
-    def _print_sqrt(self, expr):  # pragma: no cover - sympy prints sqrt as Pow
-        return f"sqrt({self._print(expr.args[0])})"
-
     def _print_Abs(self, expr):
         return f"fabs_of({self._print(expr.args[0])})"
 
