@@ -33,7 +33,34 @@ def deflection(metric, r0: float, direction, **kw) -> float:
     return (-turn) % (2 * math.pi)
 
 
+#: Line elements the contract tests load as plugins beside the built-in metrics: a Kerr-Schild chart
+#: (horizon-penetrating) and a static spherical one (absorbed at the capture radius), with a definition.
+EXPRESSION_METRICS = {
+    "ks_schwarzschild": dict(
+        line_element="-dt**2 + dx**2 + dy**2 + dz**2 + 2*M/r*(dt + (x*dx + y*dy + z*dz)/r)**2",
+        parameters={"M": 1.0}, horizon_radius="2*M", photon_sphere_radius="3*M", mass="M"),
+    "static_charged": dict(
+        line_element="-f*dt**2 + dr**2/f + r**2*dOmega**2", coordinates="spherical",
+        definitions={"f": "1 - 2*M/r + Q**2/r**2"}, parameters={"M": 1.0, "Q": 0.8},
+        horizon_radius="M + sqrt(M**2 - Q**2)", inner_horizon_radius="M - sqrt(M**2 - Q**2)",
+        photon_sphere_radius="(3*M + sqrt(9*M**2 - 8*Q**2))/2", mass="M"),
+}  # fmt: skip
+
+
+def expression_metric(key: str):
+    """A metric of :data:`EXPRESSION_METRICS`, compiled on first use (cached in warpviz's plugin cache)."""
+    return wv.Metric.from_line_element(name=key, **EXPRESSION_METRICS[key])
+
+
 def metric_instances():
     """One instance of every metric compiled into the core, with its registry example parameters (GYOTO
-    style: a new metric file is covered by every contract test without a test edit)."""
+    style: a new metric file is covered by every contract test without a test edit), and the metrics of
+    :data:`EXPRESSION_METRICS` loaded as plugins (skipped where no C++ compiler is found)."""
+    from warpviz.spacetime.line_element.plugin import CompilerNotFoundError
+
+    try:
+        for key in EXPRESSION_METRICS:
+            expression_metric(key)
+    except CompilerNotFoundError:
+        pass
     return [wv.metric_class(entry["name"]).example() for entry in wv.registered_metrics()]

@@ -78,6 +78,19 @@ BAD_SCENES = [
     ("scene file too large", SCENE + "# " + "x" * (17 * 2**20) + "\n", "more than a scene file may be"),
     ("unknown top-level key", SCENE + "[camra]\n", "camra"),
     ("missing version", SCENE.replace("version = 1\n", ""), "version"),
+    # metrics from their line element: refused (file:line:column inside the expression) before compiling
+    ("line element runs Python", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "custom"\n'
+     'line_element = "-dt**2 + dx**2 + dy**2 + dz**2 + __import__(1)*dx**2"'), "bad.toml:4:50: metric.line_element: unknown function '__import__'"),
+    ("line element attribute access", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "custom"\n'
+     'line_element = "-dt**2 + M.__class__*dx**2"\nparameters = { M = 1.0 }'), "bad.toml:4:27: metric.line_element: unexpected character '.'"),
+    ("line element huge exponent", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "custom"\n'
+     'line_element = "-dt**2 + dx**2 + dy**2 + dz**2*r**99999"'), "exponent 99999 is larger than 64"),
+    ("line element divides by zero", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "custom"\n'
+     'line_element = "-dt**2 + dx**2/(M - M) + dy**2 + dz**2"\nparameters = { M = 1.0 }'), "division by zero"),
+    ("landmark of a coordinate", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "custom"\n'
+     'line_element = "-dt**2 + dx**2 + dy**2 + dz**2"\nhorizon_radius = "2*r"'), "metric.horizon_radius: unknown name 'r'"),
+    ("custom metric unknown key", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "custom"\n'
+     'line_element = "-dt**2 + dx**2 + dy**2 + dz**2"\nhorizon = "2"'), "did you mean 'horizon_radius'"),
 ]  # fmt: skip
 
 

@@ -21,6 +21,7 @@
 #include "bindings/scene_dict.h"
 #include "core/parallel.h"
 #include "core/simd.h"
+#include "engine/plugin.h"
 #include "engine/registry.h"
 
 namespace nb = nanobind;
@@ -466,6 +467,17 @@ nb::object spherical_lens(const std::string& metric, const std::vector<double>& 
 NB_MODULE(_core, m) {
   m.doc() = "warpviz native core: null geodesics of the spacetimes registered in renderer_ext/metrics/";
   m.def("metrics", &metrics, "Registered metrics and their facts (engine/registry.h).");
+  m.def("load_metric_plugin", &wv::load_metric_plugin, "path"_a,
+        "Loads a metric plugin once and enters its metrics and steppers into the registry (engine/plugin.h); "
+        "returns the names of the metrics it added.");
+  m.def(
+      "has_stepper",
+      [](const std::string& metric, const std::string& stepper, bool render) {
+        return wv::has_stepper(metric, stepper_kind(stepper), render);
+      },
+      "metric"_a, "stepper"_a, "render"_a,
+        "Whether the registry has the metric's tracer (render=False) or renderer for the stepper.");
+  m.def("plugin_abi_key", &wv::plugin_abi_key, "The layout key a metric plugin must match (engine/plugin.h).");
   m.def("status_names", []() {
     std::vector<std::string> names(wv::kStatusNames, wv::kStatusNames + wv::kNumStatuses);
     return names;
@@ -538,6 +550,7 @@ NB_MODULE(_core, m) {
     d["hardware_threads"] = wv::resolve_threads(0);
     d["threading"] = std::string("std::thread pool, GIL released, deterministic per ray");
     d["simd"] = std::to_string(wv::kLanes) + "-ray batches, " + wv::lane_kernel_isa() + " kernel";
+    d["lane_target"] = std::string(wv::lane_kernel_target());
     return d;
   });
 }

@@ -41,6 +41,16 @@ inline const char* lane_kernel_isa() {
 #endif
 }
 
+// The same choice as a target_clones name ("arch=x86-64-v4", "avx2", "default"): what a metric plugin is
+// compiled for (warpviz/spacetime/line_element/plugin.py; built with WARPVIZ_NO_CLONES, it needs only this).
+inline const char* lane_kernel_target() {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(WARPVIZ_NO_CLONES)
+  if (__builtin_cpu_supports("x86-64-v4")) return "arch=x86-64-v4";
+  if (__builtin_cpu_supports("avx2")) return "avx2";
+#endif
+  return "default";
+}
+
 WV_INLINE Lanes sqrt(Lanes v) {
   Lanes r;
   for (int i = 0; i < kLanes; ++i) r[i] = __builtin_sqrt(v[i]);

@@ -1,19 +1,28 @@
 #include "engine/registry.h"
 
+#include <deque>
+#include <mutex>
 #include <stdexcept>
 
 namespace wv {
 
 namespace {
 
-std::vector<MetricEntry>& metric_table() {
-  static std::vector<MetricEntry> entries;
+// Deques: a plugin loaded while a render runs (engine/plugins.cpp) appends entries without moving the
+// ones a running render holds by reference. The lock orders appends against lookups.
+std::deque<MetricEntry>& metric_table() {
+  static std::deque<MetricEntry> entries;
   return entries;
 }
 
-std::vector<StepperEntry>& stepper_table() {
-  static std::vector<StepperEntry> entries;
+std::deque<StepperEntry>& stepper_table() {
+  static std::deque<StepperEntry> entries;
   return entries;
+}
+
+std::mutex& table_lock() {
+  static std::mutex m;
+  return m;
 }
 
 const char* stepper_name(StepperKind s) {
@@ -29,6 +38,7 @@ const StepperEntry& find_stepper(const std::string& name, const std::vector<doub
   const MetricEntry& e = find_metric(name);
   const std::string why = params_problem(e, params);
   if (!why.empty()) throw std::invalid_argument(why);
+  const std::lock_guard<std::mutex> hold(table_lock());
   for (const auto& st : stepper_table())
     if (st.metric == name && st.stepper == s && (render ? st.render != nullptr : st.trace != nullptr)) return st;
   throw std::invalid_argument("metric '" + name + "' was built without the " + stepper_name(s) + " stepper");
@@ -36,12 +46,30 @@ const StepperEntry& find_stepper(const std::string& name, const std::vector<doub
 
 }  // namespace
 
-void register_metric(MetricEntry entry) { metric_table().push_back(std::move(entry)); }
-void register_stepper(StepperEntry entry) { stepper_table().push_back(std::move(entry)); }
+void register_metric(MetricEntry entry) {
+  const std::lock_guard<std::mutex> hold(table_lock());
+  metric_table().push_back(std::move(entry));
+}
+void register_stepper(StepperEntry entry) {
+  const std::lock_guard<std::mutex> hold(table_lock());
+  stepper_table().push_back(std::move(entry));
+}
 
-const std::vector<MetricEntry>& registered_metrics() { return metric_table(); }
+std::vector<MetricEntry> registered_metrics() {
+  const std::lock_guard<std::mutex> hold(table_lock());
+  return {metric_table().begin(), metric_table().end()};
+}
+
+bool has_stepper(const std::string& metric, StepperKind stepper, bool render) {
+  const std::lock_guard<std::mutex> hold(table_lock());
+  for (const auto& st : stepper_table())
+    if (st.metric == metric && st.stepper == stepper && (render ? st.render != nullptr : st.trace != nullptr))
+      return true;
+  return false;
+}
 
 const MetricEntry& find_metric(const std::string& name) {
+  const std::lock_guard<std::mutex> hold(table_lock());
   for (const auto& e : metric_table())
     if (e.name == name) return e;
   std::string known;

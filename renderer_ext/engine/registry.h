@@ -5,7 +5,8 @@
 // Each metric file registers itself with one line, WARPVIZ_REGISTER_METRIC (engine/register.h), so a new
 // metric is one file plus one CMake line (warpviz_add_metric), Mitsuba-style. A metric file is compiled
 // in two halves (CMakeLists.txt, engine/register.h), each registering its part of the tracers and
-// renderers, one also the metric's facts; lookups merge them.
+// renderers, one also the metric's facts; lookups merge them. A metric compiled at run time (a line
+// element) enters the same tables when its plugin is loaded (engine/plugin.h).
 #pragma once
 
 #include <functional>
@@ -45,7 +46,10 @@ struct StepperEntry {
   RenderResult (*render)(const std::vector<double>& params, const Scene& scene, const RenderOptions& options);
 };
 
-const std::vector<MetricEntry>& registered_metrics();
+// A copy of the registered metrics' facts, in registration order (built-in files, then loaded plugins).
+std::vector<MetricEntry> registered_metrics();
+// Whether a tracer (render = false) or renderer for the metric and stepper is registered.
+bool has_stepper(const std::string& metric, StepperKind stepper, bool render);
 // Throws std::invalid_argument naming the known metrics if `name` is not registered.
 const MetricEntry& find_metric(const std::string& name);
 // Empty if params (in the entry's order) are valid for the metric, otherwise why not.
@@ -57,7 +61,8 @@ TraceResult trace_rays(const std::string& name, const std::vector<double>& param
 RenderResult render_scene(const std::string& name, const std::vector<double>& params, const Scene& scene,
                           const RenderOptions& options, StepperKind stepper);
 
-// Used by WARPVIZ_REGISTER_METRIC at static initialisation.
+// Used by WARPVIZ_REGISTER_METRIC at static initialisation (and by engine/plugins.cpp for a loaded plugin;
+// a plugin's own copies, engine/plugin_entry.cpp, collect its entries for the core instead).
 void register_metric(MetricEntry entry);
 void register_stepper(StepperEntry entry);
 

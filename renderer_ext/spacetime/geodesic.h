@@ -196,7 +196,7 @@ class GeodesicRay {
       record(y, 0.0, 0.0);
       if (!state_finite(y)) return finish(kNaN, y);
 
-      r_h_ = o.backward ? m.capture_radius() : m.horizon_radius();
+      r_h_ = (o.backward || !M::kChartCrossesHorizon) ? m.capture_radius() : m.horizon_radius();
       // Seed RK4: the fixed base step is halved (powers of two) until it is at most kappa times the
       // distance to the centre, kappa = tol^(1/4) (global error ~ kappa^4).
       if constexpr (!S::kAdaptive) kappa_ = std::min(0.1, std::max(1e-4, std::pow(o.tol, 0.25)));

@@ -154,6 +154,11 @@ struct MetricBase {
   static constexpr bool kFlat = false;
   // The integration chart's x, y, z are the user's Cartesian coordinates (false: Ellis).
   static constexpr bool kUserIsChart = true;
+  // Whether the chart reaches through the horizon (the Kerr-Schild charts do), so that a ray going forward
+  // in time steps to the horizon itself. Where it does not (a static chart, whose g_rr diverges there: a
+  // line element written in Schwarzschild coordinates), every ray is absorbed when it moves inward through
+  // the capture radius, as camera rays always are (geodesic.h).
+  static constexpr bool kChartCrossesHorizon = true;
 
   // Static and spherically symmetric, with its lens map's functions in spherical_lens() (lens_map.h):
   // the light connection then samples every image of a light exactly (integrators/lens_connection.h).

@@ -75,8 +75,12 @@ def tile_windows(window: tuple[int, int, int, int], tile: int) -> list[tuple[int
 # on the workers
 
 
-def _tile_pass(native: dict, options: dict, tile: tuple, state: dict | None, extra: dict) -> dict:
-    """One pass of one tile (runs on a worker): the core continues the tile's film ``state``."""
+def _tile_pass(native: dict, options: dict, tile: tuple, state: dict | None, extra: dict, metric=None) -> dict:
+    """One pass of one tile (runs on a worker): the core continues the tile's film ``state``. ``metric``
+    (the scene's, pickled with the task) makes sure the worker's core has it: a metric from its line
+    element is rebuilt from its definition there (its plugin from the shared cache, or compiled)."""
+    if metric is not None:
+        metric.prepare(stepper=options["stepper"])
     x, y, w, h = tile
     opts = {**options, **extra, "crop": [x, y, w, h], "progress": None,
             "film": None if state is None else state["film"],
@@ -171,10 +175,13 @@ class TiledPasses:
         The core's options for the whole window (``crop``; ``threads``: threads per task).
     tile : int
         Tile side in pixels.
+    metric : Metric, optional
+        The scene's metric, sent with each task so that a worker can load one given by its line element.
     """
 
-    def __init__(self, client, native: dict, options: dict, *, tile: int):
+    def __init__(self, client, native: dict, options: dict, *, tile: int, metric=None):
         self.client = client
+        self.metric = metric
         self.window = tuple(options["crop"])
         self.tiles = tuple(tile_windows(self.window, tile))
         self.options = {k: v for k, v in options.items() if k not in ("progress", "film", "edge_list")}
@@ -218,7 +225,8 @@ class TiledPasses:
         small = {"spp": n, "sample_begin": begin}
         self._pass += 1
         keys = [f"warpviz-{self._run}-pass{self._pass}-tile{i}" for i in range(len(self.tiles))]
-        results = [self.client.submit(_tile_pass, self.native, self.options, t, s, small, key=k, pure=False)
+        results = [self.client.submit(_tile_pass, self.native, self.options, t, s, small, metric=self.metric, key=k,
+                                      pure=False)
                    for t, s, k in zip(self.tiles, states, keys)]  # fmt: skip
         summaries = [self.client.submit(_summary, r, key=k + "-summary", pure=False) for r, k in zip(results, keys)]
         return results, summaries

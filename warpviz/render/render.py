@@ -314,6 +314,7 @@ def render(
     x0, y0, cw, ch = options["crop"] = _crop(options["crop"], w, h)
     options["record_pixels"] = _record_pixels(record_pixels, (x0, y0, cw, ch), (w, h))
     metric = _metric(native["metric"])  # validates the parameters with the metric's own messages
+    metric.prepare(stepper=options["stepper"])  # a metric from its line element: its renderer, compiled once
     settings = resume_settings(options, native)
     digest = scene_sha256(native)
     start = PassesDone(film=None, spp=0, passes=0)
@@ -348,7 +349,7 @@ def render(
 
         check_workers(client)
         core_options["threads"] = options["threads"] or 1
-        render_range = TiledPasses(client, native, core_options, tile=tile)
+        render_range = TiledPasses(client, native, core_options, tile=tile, metric=metric)
         pass_samples = render_range.pass_samples
         if not limited:  # the passes are known: each one's successors queue behind it
             render_range.expect(start.spp, pass_plan(start.spp, npix=cw * ch, spp=target, pass_samples=pass_samples))

@@ -79,10 +79,14 @@ class _Reader:
     def __init__(self, *, label: str | None, positions: TomlPositions | None, base_dir: Path):
         self.label, self.positions, self.base_dir = label, positions, base_dir
 
-    def error(self, path: tuple, reason: str, *, at_value: bool = True) -> SceneError:
+    def error(self, path: tuple, reason: str, *, at_value: bool = True, inside: int | None = None) -> SceneError:
+        """A SceneError at ``path``'s value (or key); ``inside``: the 1-based column within a one-line string
+        value where the problem is (an expression's), added to the string's position past its quote."""
         line = column = None
         if self.positions is not None:
             line, column = self.positions.locate(path, prefer_value=at_value)
+            if inside is not None and column is not None and self.positions.value(path) is not None:
+                column += inside
         return SceneError(reason, path=self.label, line=line, column=column, key=key_name(path) or None)
 
     def table(self, path: tuple, value: Any, allowed, *, required=(), what: str | None = None) -> dict:

@@ -31,11 +31,51 @@ AOV_NAMES = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "a
              "samples")
 
 
+#: The keys of a ``[metric]`` table with ``name = "custom"``, besides the landmarks (docs/line-element.md).
+CUSTOM_METRIC_KEYS = ("name", "line_element", "coordinates", "parameters", "definitions", "label")
+
+
+def _custom_metric(r: _Reader, tbl: dict) -> Metric:
+    """``[metric] name = "custom"``: a metric from its line element, checked (expressions with the column in
+    the file where they go wrong) before it is compiled on first use."""
+    from warpviz.spacetime.line_element import LineElementError
+    from warpviz.spacetime.line_element.codegen import LANDMARKS
+    from warpviz.spacetime.line_element.custom import line_element_definition
+    from warpviz.spacetime.line_element.tensor import COORDINATES
+    from warpviz.spacetime.metrics import line_element_class
+
+    path = ("metric",)
+    r.table(path, tbl, [*CUSTOM_METRIC_KEYS, *LANDMARKS], required=("line_element",), what="[metric] (custom)")
+    text = r.string(tbl, path, "line_element")
+    coordinates = r.choice(tbl, path, "coordinates", list(COORDINATES), "cartesian")
+    label = r.string(tbl, path, "label", "custom")
+    params = r.get(tbl, path, "parameters", {})
+    r.table(path + ("parameters",), params, [*params])
+    values = {k: r.real(params, path + ("parameters",), k) for k in params}
+    defs = r.get(tbl, path, "definitions", {})
+    r.table(path + ("definitions",), defs, [*defs])
+    definitions = {k: r.string(defs, path + ("definitions",), k) for k in defs}
+    landmarks = {k: r.string(tbl, path, k) for k in LANDMARKS if k in tbl}
+    try:
+        definition = line_element_definition(text, coordinates=coordinates, parameters=values,
+                                             definitions=definitions, name=label, **landmarks)  # fmt: skip
+        cls = line_element_class(definition)
+    except LineElementError as exc:
+        where = exc.where.split(".")
+        key = path + (("label",) if where == ["name"] else tuple(where))
+        raise r.error(key, f"metric.{exc.where}: {exc.reason}", inside=exc.column) from None
+    except RuntimeError as exc:  # no compiler (says what to install), or a plugin the core refused
+        raise r.error(path, f"metric: {exc}", at_value=False) from None
+    return cls(**values)
+
+
 def _metric(r: _Reader, tbl: Any) -> Metric:
     path = ("metric",)
     registry = {m["name"]: m for m in registered_metrics()}
     r.table(path, tbl, [*tbl], required=("name",))  # a table with a name; its keys are checked below
-    name = r.choice(tbl, path, "name", list(registry))
+    if tbl.get("name") == "custom":
+        return _custom_metric(r, tbl)
+    name = r.choice(tbl, path, "name", [*registry, "custom"])
     specs = {s["name"]: s for s in registry[name]["param_specs"]}
     r.table(path, tbl, ["name", *specs], what=f"[metric] ({name})")
     params = {}

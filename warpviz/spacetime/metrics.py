@@ -18,6 +18,7 @@ import copy
 import inspect
 import math
 import numbers
+import threading
 import warnings
 from typing import Any, ClassVar
 
@@ -63,7 +64,7 @@ def _check_param(cls: str, spec: dict, value: Any) -> float:
     return value
 
 
-#: The core's registry, read once: it is fixed when the extension is built.
+#: The core's registry, read once, and extended when a metric from its line element is loaded.
 _REGISTRY: dict[str, dict] = {e["name"]: e for e in registered_metrics()}
 
 
@@ -213,6 +214,57 @@ class Metric:
         """``{"name": ..., **params}``, the form scene files and VTK field data use."""
         return {"name": self.name, **self.params}
 
+    def prepare(self, *, stepper: str) -> None:
+        """Makes sure the core can render this metric with ``stepper`` (a built-in metric always can; a
+        metric from its line element compiles that renderer on first use)."""
+
+    @classmethod
+    def from_line_element(cls, line_element: str, *, coordinates: str = "cartesian",
+                          parameters: dict[str, float] | None = None, definitions: dict[str, str] | None = None,
+                          name: str = "custom", progress=None, **landmarks: str) -> "Metric":  # fmt: skip
+        """A metric from its line element, compiled into the core on first use (cached afterwards).
+
+        Parameters
+        ----------
+        line_element : str
+            ds², e.g. ``"-(1 - 2*M/r)*dt**2 + dr**2/(1 - 2*M/r) + r**2*dOmega**2"``: numbers, the coordinates
+            and parameters, ``+ - * / **``, ``sqrt exp log sin cos tan sinh cosh tanh asin acos atan atan2
+            abs``. Never evaluated as Python.
+        coordinates : {"cartesian", "spherical"}, keyword-only
+            ``t x y z`` (with the helper ``r``) or ``t r theta phi`` (with ``dOmega``), transformed to
+            Cartesian coordinates so that the poles are regular.
+        parameters : dict of str to float, optional, keyword-only
+            Each parameter's name and value (the class's defaults).
+        definitions : dict of str to str, optional, keyword-only
+            Named helper expressions, in order (``{"f": "1 - 2*M/r"}``).
+        name : str, keyword-only
+            The metric's name; its registry name adds a hash of the definition.
+        progress : callable, optional, keyword-only
+            Told, one line at a time, when the metric is compiled.
+        **landmarks : str
+            ``horizon_radius``, ``inner_horizon_radius``, ``capture_radius``, ``photon_sphere_radius``,
+            ``throat_radius``, ``mass`` (the length scale): expressions of the parameters. A black hole needs
+            ``horizon_radius``; rays that fall in are captured at ``capture_radius``, by default halfway from
+            the horizon to the photon sphere, or 1.1 × the horizon without one.
+
+        Returns
+        -------
+        Metric
+
+        Examples
+        --------
+        >>> import warpviz as wv                                                  # doctest: +SKIP
+        >>> rn = wv.Metric.from_line_element(
+        ...     "-f*dt**2 + dr**2/f + r**2*dOmega**2", coordinates="spherical",
+        ...     definitions={"f": "1 - 2*M/r + Q**2/r**2"}, parameters={"M": 1.0, "Q": 0.5},
+        ...     horizon_radius="M + sqrt(M**2 - Q**2)", name="charged")
+        """
+        from warpviz.spacetime.line_element.custom import line_element_definition
+
+        definition = line_element_definition(line_element, coordinates=coordinates, parameters=parameters,
+                                             definitions=definitions, name=name, **landmarks)  # fmt: skip
+        return line_element_class(definition, progress=progress)(**definition["parameters"])
+
     def __eq__(self, other: object) -> bool:
         return type(other) is type(self) and other.params == self.params
 
@@ -314,6 +366,67 @@ def _generated_class(entry: dict) -> type[Metric]:
     return type(entry["class_name"], (Metric,), {"name": entry["name"], "__doc__": doc, "__module__": __name__})
 
 
+class LineElementMetric(Metric):
+    """Base of the classes of metrics given by their line element (:meth:`Metric.from_line_element`).
+
+    Attributes
+    ----------
+    definition : dict
+        What defines the metric (``line_element``, ``coordinates``, ``parameters``, ``definitions``,
+        ``landmarks``, ``name``): plain data, from which any process rebuilds the class.
+    """
+
+    definition: ClassVar[dict] = {}
+    _source: ClassVar[str] = ""
+
+    def prepare(self, *, stepper: str) -> None:
+        if not core.has_stepper(self.name, stepper, True):
+            from warpviz.spacetime.line_element.custom import ensure_renderer
+
+            ensure_renderer(self._source, stepper)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The form of a scene file's ``[metric]`` table, with this instance's parameter values:
+        ``{"name": "custom", "label": ..., "line_element": ..., "coordinates": ..., "parameters": {...},
+        "definitions": {...}, <landmark>: ...}`` (:func:`metric_from_dict` reads it back)."""
+        d = copy.deepcopy(dict(self.definition))
+        return {"name": "custom", "label": d["name"], "line_element": d["line_element"],
+                "coordinates": d["coordinates"], "parameters": self.params, "definitions": d["definitions"],
+                **d["landmarks"]}  # fmt: skip
+
+    def __reduce__(self):  # another process (a Dask worker) rebuilds the class from the definition
+        return (_line_element_metric, (dict(self.definition), self.params))
+
+
+def _line_element_metric(definition: dict, params: dict) -> Metric:
+    return line_element_class(definition)(**params)
+
+
+_LINE_ELEMENT_LOCK = threading.Lock()
+
+
+def line_element_class(definition: dict, *, progress=None) -> type[LineElementMetric]:
+    """The class of the metric a line-element definition describes (``line_element/custom.py``), its plugin
+    compiled (first use) and loaded into the core, made from its registry entry as for a metric file without
+    a class of its own. The same definition always gives the same class."""
+    from warpviz.spacetime.line_element.custom import LineElementDefinition, load_definition
+
+    definition = LineElementDefinition(definition)
+    name = definition.registry_name
+    with _LINE_ELEMENT_LOCK:
+        if name in _CLASSES:
+            return _CLASSES[name]
+        source = load_definition(definition, progress=progress)
+        entry = next(e for e in registered_metrics() if e["name"] == name)
+        _REGISTRY[name] = entry
+        doc = f"{entry['summary']}.\n\n    A metric from its line element (:meth:`Metric.from_line_element`)."
+        cls_name = "".join(part[:1].upper() + part[1:] for part in definition["name"].split("_"))
+        cls = type(cls_name, (LineElementMetric,), {"name": name, "__doc__": doc, "__module__": __name__,
+                                                    "definition": dict(definition), "_source": source})  # fmt: skip
+        _CLASSES[name] = cls
+        return cls
+
+
 _HAND_WRITTEN = (Minkowski, Schwarzschild, Kerr, EllisWormhole)
 
 #: Every metric compiled into the core, by registry name, in registration order.
@@ -371,6 +484,12 @@ def metric_from_dict(spec: dict[str, Any]) -> Metric:
         Unknown name or parameter, naming the known ones.
     """
     spec = dict(spec)
+    if spec.get("name") == "custom":  # a metric from its line element (LineElementMetric.to_dict)
+        from warpviz.spacetime.line_element.custom import line_element_definition
+
+        spec.pop("name")
+        definition = line_element_definition(spec.pop("line_element", None), name=spec.pop("label", "custom"), **spec)
+        return line_element_class(definition)(**definition["parameters"])
     cls = metric_class(spec.pop("name", None))
     unknown = set(spec) - set(cls._param_names)
     if unknown:

@@ -10,7 +10,13 @@ What is generated from a :class:`~warpviz.spacetime.line_element.tensor.LineElem
 - ``inverse_metric`` = the numeric inverse of g (``cofactor_inverse4`` in ``core/linalg.h``), and ``rhs`` = Hamilton's
   equations in the form dx^μ/dλ = u^μ = g^{μν} p_ν, dp_λ/dλ = ½ u^μ u^ν ∂_λ g_{μν} (no symbolic inverse:
   it would be large, and its derivative larger);
-- the conserved quantities it has (E where g does not depend on t, L_z where it is axisymmetric, H always).
+- the conserved quantities it has (E where g does not depend on t, L_z where it is axisymmetric, H always);
+- the landmarks given as expressions of the parameters (horizon, capture radius, photon sphere, ...).
+
+``rhs`` is not force-inlined as the hand-written files' is: the steppers call it at every stage, and
+inlining a generated body there doubles a plugin's compile time (measured: 36 s → 18 s per part) for no
+speed a ray can measure; a plugin is compiled for the machine's own instruction set (``plugin.py``), so the
+call keeps the batch kernel's vector width.
 
 Only names the generator makes appear in the code (``x[i]``, ``p_[i]``, ``d_<definition>``, ``c<k>``);
 a parameter or definition name is never pasted into C++ except inside a comment, after the grammar has
@@ -186,7 +192,43 @@ def _class_name(name: str) -> str:
     return "".join(part[:1].upper() + part[1:] for part in name.split("_") if part) or "Custom"
 
 
+#: Landmarks a line element may give (expressions of its parameters) and the Landmarks field each sets
+#: (renderer_ext/spacetime/landmarks.h).
+LANDMARKS = {"horizon_radius": "horizon", "inner_horizon_radius": "inner_horizon", "capture_radius": "capture",
+             "photon_sphere_radius": "photon_sphere", "throat_radius": "throat", "mass": "mass",
+             "escape_radius": "escape"}  # fmt: skip
+
+
+def _landmark_lines(le: LineElement, landmarks: Mapping[str, sympy.Basic]) -> list[str]:
+    """The landmark methods: an expression of the parameters each (doubles). A horizon without a capture
+    radius captures at 1.1 × the horizon, or halfway to the photon sphere where one is given (no inward
+    light ray turns back out inside the photon sphere)."""
+    unknown = set(landmarks) - set(LANDMARKS)
+    if unknown:
+        raise ValueError(f"unknown landmark(s) {sorted(unknown)}; landmarks are {list(LANDMARKS)}")
+    names = {p: f"p_[{i}]" for i, p in enumerate(le.params)}
+    text = {LANDMARKS[k]: _Printer(names).doprint(sympy.sympify(v)) for k, v in landmarks.items()}
+    if "horizon" in text and "capture" not in text:
+        text["capture"] = (f"0.5 * (({text['horizon']}) + ({text['photon_sphere']}))" if "photon_sphere" in text
+                           else f"1.1 * ({text['horizon']})")  # fmt: skip
+    lines = []
+    if "horizon" in text:
+        lines.append(f"  double horizon_radius() const {{ return {text['horizon']}; }}")
+    if "capture" in text:
+        lines.append(f"  double capture_radius() const {{ return {text['capture']}; }}")
+    if "mass" in text:
+        lines.append(f"  double length_scale() const {{ return {text['mass']}; }}")
+    if "escape" in text:  # not asymptotically flat: rays escape here (spacetime/metric.h, escape_limit)
+        lines.append(f"  double escape_limit() const {{ return {text['escape']}; }}")
+    extra = [f"    l.{k} = {text[k]};" for k in ("inner_horizon", "photon_sphere", "throat", "mass") if k in text]
+    if extra:
+        lines += ["  Landmarks landmarks() const {", "    Landmarks l = MetricBase::landmarks();", *extra,
+                  "    return l;", "  }"]  # fmt: skip
+    return lines
+
+
 def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], summary: str = "",
+                  landmarks: Mapping[str, sympy.Basic] | None = None, crosses_horizon: bool = True,
                   register: bool = True) -> str:  # fmt: skip
     """The C++ of a metric struct for ``le`` (module docstring).
 
@@ -199,6 +241,11 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         Default value of each parameter (the registry's default and example).
     summary : str, keyword-only
         One line for the registry (default: the line element's kind).
+    landmarks : mapping of str to sympy expression, optional, keyword-only
+        Landmark radii (:data:`LANDMARKS`) as expressions of the parameters.
+    crosses_horizon : bool, keyword-only
+        Whether the chart is regular through the horizon (``kChartCrossesHorizon``; False: every ray is
+        absorbed at the capture radius, as for a line element in Schwarzschild coordinates).
     register : bool, keyword-only
         End with ``WARPVIZ_REGISTER_METRIC`` (a plugin); False for a test harness that includes the struct.
 
@@ -247,6 +294,7 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         f'  static constexpr const char* kClassName = "{cls}";',
         f'  static constexpr const char* kSummary = "{(summary or "Spacetime from its line element").replace(chr(34), "")}";',
         param_block.rstrip("\n"),
+        *([] if crosses_horizon else ["  static constexpr bool kChartCrossesHorizon = false;"]),
         f"  static constexpr int kNumInvariants = {len(invariants)};",
         f"  static constexpr const char* kInvariantNames[kNumInvariants] = {{{names}}};",
         f"  double p_[{max(1, len(le.params))}] = {{}};",
@@ -274,9 +322,9 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         "    cofactor_inverse4(g, gi);",
         "  }",
         "",
-        "  // dx^mu = u^mu = g^{mu nu} p_nu, dp_l = (1/2) u^mu u^nu d_l g_{mu nu}",
+        "  // dx^mu = u^mu = g^{mu nu} p_nu, dp_l = (1/2) u^mu u^nu d_l g_{mu nu} (not inlined: codegen.py)",
         "  template <class T>",
-        "  WV_INLINE void rhs(const T y[8], T dy[8]) const {",
+        "  __attribute__((noinline)) void rhs(const T y[8], T dy[8]) const {",
         "    T g[4][4], dg[4][4][4], gi[4][4];",
         "    metric_and_derivatives(y, g, dg);",
         "    cofactor_inverse4(g, gi);",
@@ -287,6 +335,7 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         "  }",
         "",
         "  double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }",
+        *_landmark_lines(le, landmarks or {}),
         "",
         "  void conserved(const double y[8], const HamiltonianParts& /*hp*/, double out[], double mag[]) const {",
         *(conserved or ["    (void)y; (void)out; (void)mag;"]),

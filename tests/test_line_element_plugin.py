@@ -1,0 +1,205 @@
+"""Metrics from their line element as plugins of the core (engine/plugin.h, line_element/plugin.py,
+line_element/custom.py): they trace and render like the built-in metric they write out, the compile cache
+is keyed by content, and a missing compiler or a foreign library gets a clear error."""
+
+import os
+import pickle
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import warpviz as wv
+from warpviz._native import core
+from warpviz.spacetime.line_element import LineElementError
+from warpviz.spacetime.line_element import plugin as plugin_mod
+from warpviz.spacetime.line_element.custom import LineElementDefinition
+from warpviz.spacetime.line_element.plugin import CompilerNotFoundError
+
+from conftest import EXPRESSION_METRICS, expression_metric
+
+try:
+    plugin_mod.find_compiler()
+except CompilerNotFoundError as exc:  # pragma: no cover - every machine that built warpviz has one
+    pytest.skip(f"no C++ compiler: {exc}", allow_module_level=True)
+
+
+def _fan(n: int = 600, seed: int = 1):
+    """Rays from (0, -20, 1) into the half space towards the hole: some escape, some fall in."""
+    rng = np.random.default_rng(seed)
+    d = rng.normal(size=(n, 3))
+    d[:, 1] = 3.0 * np.abs(d[:, 1])
+    return np.array([0.0, -20.0, 1.0]), d / np.linalg.norm(d, axis=1)[:, None]
+
+
+def test_kerr_schild_schwarzschild_traces_as_the_built_in_metric():
+    """The same Hamilton equations in another order of operations: every ray ends the same way after the same
+    number of steps, at the same place to 1e-12 of its radius (5e-12 for the few that graze the photon
+    sphere, where any rounding grows)."""
+    m = expression_metric("ks_schwarzschild")
+    assert m.landmarks == {"horizon": 2.0, "capture": 2.5, "photon_sphere": 3.0, "mass": 1.0}
+    o, d = _fan()
+    for tol in (1e-9, 1e-12):
+        a, b = wv.trace(m, o, d, tol=tol), wv.trace(wv.Schwarzschild(mass=1.0), o, d, tol=tol)
+        assert (a.status == b.status).all() and (a.n_steps == b.n_steps).all()
+        assert {"escaped", "horizon"} == set(b.status_names)
+        rel = np.abs(a.final_positions - b.final_positions).max(axis=1) / np.linalg.norm(b.final_positions, axis=1)
+        assert np.percentile(rel, 95) < 1e-12 and rel.max() < 5e-12
+
+
+def test_a_static_chart_absorbs_rays_at_the_capture_radius_and_bends_light_as_the_built_in_metric():
+    """Reissner-Nordström in Schwarzschild-like coordinates (g_rr = 1/f diverges at the horizon): rays that fall
+    in end at the capture radius (the chart cannot reach the horizon); those that escape leave in the
+    built-in Kerr-Schild metric's directions (the two charts differ only in t)."""
+    m = expression_metric("static_charged")
+    rn = wv.ReissnerNordstrom(mass=1.0, charge=0.8)
+    assert {k: m.landmarks[k] for k in rn.landmarks} == pytest.approx(rn.landmarks, rel=1e-14)
+    o, d = _fan()
+    a, b = wv.trace(m, o, d, tol=1e-12), wv.trace(rn, o, d, tol=1e-12)
+    assert (a.status_names == b.status_names).all()
+    fell = a.status_names == "horizon"
+    assert fell.any() and np.allclose(np.linalg.norm(a.final_positions[fell], axis=1), m.landmarks["capture"], rtol=1e-9)
+    out = ~fell
+    assert np.abs(a.final_directions[out] - b.final_directions[out]).max() < 1e-9
+
+
+def test_a_line_element_metric_renders_as_the_built_in_one():
+    """A small curved scene through the expression metric and the built-in: the same picture, pixel for
+    pixel, except where a ray's last bits decide which side of an edge it lands."""
+    m = expression_metric("ks_schwarzschild")
+    scene = {
+        "metric": {"name": m.name, "params": m.param_values},
+        "camera": {"position": [0.0, -15.0, 2.0], "look_at": [0.0, 0.0, 0.0], "fov": 50, "width": 24, "height": 18},
+        "textures": [{"type": "checker", "color_a": [1, 1, 1], "color_b": [0.1, 0.2, 0.8], "scale": [8.0, 4.0]}],
+        "materials": [{"type": "diffuse", "texture": 0}],
+        "shapes": [{"type": "sphere", "center": [0, 8, 0], "radius": 3, "material": 0}],
+        "environment": {"color": [0.6, 0.5, 0.4]},
+    }
+    a = wv.render(scene, spp=2, seed=3)
+    scene["metric"] = {"name": "schwarzschild", "params": [1.0]}
+    b = wv.render(scene, spp=2, seed=3)
+    diff = np.abs(a.rgb - b.rgb).max(axis=2)
+    assert (diff > 1e-5).mean() < 0.02 and np.abs(a.rgb.mean() - b.rgb.mean()) < 1e-3
+
+
+def test_the_same_definition_gives_the_same_class_and_the_cache_is_keyed_by_content(tmp_path, monkeypatch):
+    m = expression_metric("ks_schwarzschild")
+    again = wv.Metric.from_line_element(name="ks_schwarzschild", **EXPRESSION_METRICS["ks_schwarzschild"])
+    assert type(again) is type(m) and again == m and again.name == m.name
+    assert pickle.loads(pickle.dumps(m)) == m  # how a Dask worker gets it
+    assert LineElementDefinition(m.definition, parameters={"M": 2.0}).registry_name != m.name  # another default
+    assert LineElementDefinition(m.definition).registry_name == m.name
+    assert m.to_dict()["line_element"] == EXPRESSION_METRICS["ks_schwarzschild"]["line_element"]
+
+    # another process finds the libraries in the cache and compiles nothing
+    code = ("import warpviz as wv, sys; sys.path.insert(0, 'tests'); from conftest import expression_metric; "
+            "m = expression_metric('ks_schwarzschild'); print(m.name); "
+            "wv.Metric.from_line_element(name='ks_schwarzschild', progress=lambda s: print('COMPILED', s), "
+            "**__import__('conftest').EXPRESSION_METRICS['ks_schwarzschild'])")  # fmt: skip
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                         cwd=os.path.dirname(os.path.dirname(__file__)))  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == [m.name]
+    libraries = sorted(p.name for p in plugin_mod.cache_dir().glob("*.so"))
+    assert any(name.endswith("-facts.so") for name in libraries) and any(n.endswith("-dopri5.so") for n in libraries)
+
+
+def test_another_stepper_is_compiled_when_a_render_asks_for_it():
+    """rk4 and dop853 renderers are compiled on first use only (the tracers of all three are in the facts)."""
+    m = expression_metric("ks_schwarzschild")
+    assert core.has_stepper(m.name, "dopri5", True) and not core.has_stepper(m.name, "rk4", True)
+    assert all(core.has_stepper(m.name, s, False) for s in wv.STEPPERS)
+    m.prepare(stepper="rk4")
+    assert core.has_stepper(m.name, "rk4", True)
+
+
+def test_no_compiler_is_a_clear_error_saying_what_to_install(monkeypatch, tmp_path):
+    monkeypatch.setenv("WARPVIZ_CACHE_DIR", str(tmp_path))
+    monkeypatch.setenv("CXX", str(tmp_path / "no-such-compiler"))
+    with pytest.raises(CompilerNotFoundError, match="apt-get install g\\+\\+"):
+        wv.Metric.from_line_element("-dt**2 + dx**2 + dy**2 + dz**2 + M*dx**2", parameters={"M": 0.5}, name="nocxx")
+    monkeypatch.delenv("CXX")
+    monkeypatch.setenv("PATH", str(tmp_path))
+    with pytest.raises(CompilerNotFoundError, match="no C\\+\\+ compiler"):
+        plugin_mod.find_compiler()
+
+
+def test_a_foreign_or_mismatched_library_is_refused_by_name(tmp_path):
+    cxx = plugin_mod.find_compiler()
+    fake = tmp_path / "fake.cpp"
+    fake.write_text('extern "C" const char* warpviz_plugin_abi() { return "warpviz-plugin-0"; }\n'
+                    'extern "C" void warpviz_plugin_take(void*) {}\n')  # fmt: skip
+    subprocess.run([*cxx, "-shared", "-fPIC", str(fake), "-o", str(tmp_path / "fake.so")], check=True)
+    with pytest.raises(RuntimeError, match="built against other warpviz headers"):
+        core.load_metric_plugin(str(tmp_path / "fake.so"))
+    plain = tmp_path / "plain.cpp"
+    plain.write_text("int answer() { return 42; }\n")
+    subprocess.run([*cxx, "-shared", "-fPIC", str(plain), "-o", str(tmp_path / "plain.so")], check=True)
+    with pytest.raises(RuntimeError, match="is not a warpviz metric plugin"):
+        core.load_metric_plugin(str(tmp_path / "plain.so"))
+    with pytest.raises(RuntimeError, match="cannot load metric plugin"):
+        core.load_metric_plugin(str(tmp_path / "missing.so"))
+
+
+@pytest.mark.parametrize("kwargs, where", [
+    (dict(line_element="-dt**2 + dx**2 + dy**2 + dz**2", parameters={"M": float("nan")}), "parameters.M"),
+    (dict(line_element="-dt**2 + dx**2 + dy**2 + dz**2", parameters={"M": 1.0}, horizon_radius="2*r"), "horizon_radius"),
+    (dict(line_element="-dt**2 + dx**2 + dy**2 + dz**2", parameters={"M": 1.0}, horizon_radius="-M"), "horizon_radius"),
+    (dict(line_element="-dt**2 + dx**2 + dy**2 + dz**2", parameters={"M": 1.0}, event_horizon="M"), "event_horizon"),
+    (dict(line_element="-dt**2 + dx**2 + dy**2 + dz**2", name="1st"), "name"),
+    (dict(line_element="-dt**2 + dx**2 + dy**2 + dz**2 + __import__('os')"), "line_element"),
+])  # fmt: skip
+def test_bad_definitions_are_refused_before_any_compilation(kwargs, where, monkeypatch, tmp_path):
+    monkeypatch.setenv("CXX", str(tmp_path / "no-such-compiler"))  # nothing reaches the compiler
+    with pytest.raises(LineElementError) as err:
+        wv.Metric.from_line_element(**kwargs)
+    assert err.value.where == where
+
+
+SCENE = """\
+version = 1
+[metric]
+name = "custom"
+label = "ks_schwarzschild"
+line_element = "-dt**2 + dx**2 + dy**2 + dz**2 + 2*M/r*(dt + (x*dx + y*dy + z*dz)/r)**2"
+parameters = { M = 1.0 }
+horizon_radius = "2*M"
+photon_sphere_radius = "3*M"
+mass = "M"
+[camera]
+position = [0, -15, 2]
+look_at = [0, 0, 0]
+fov = 50
+[environment]
+color = [0.6, 0.5, 0.4]
+[render]
+width = 12
+height = 9
+spp = 1
+"""
+
+
+def test_a_scene_file_names_a_metric_by_its_line_element(tmp_path):
+    """The [metric] table of docs/line-element.md: the same metric (and plugin) as from Python, its table
+    written back by to_dict, and a render."""
+    path = tmp_path / "custom.toml"
+    path.write_text(SCENE)
+    scene = wv.scene.load_scene(path)
+    m = expression_metric("ks_schwarzschild")
+    assert type(scene.metric) is type(m) and scene.metric == m
+    back = m.to_dict()
+    assert back["name"] == "custom" and back["label"] == "ks_schwarzschild" and back["horizon_radius"] == "2*M"
+    assert wv.spacetime.metric_from_dict(back) == m
+    img = wv.render(path)
+    assert img.shape == (9, 12) and np.isfinite(img.rgb).all()
+
+
+def test_an_expression_error_in_a_scene_file_points_at_its_column(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(SCENE.replace("2*M/r*(dt", "2*M/q*(dt"))
+    with pytest.raises(wv.scene.SceneError) as err:
+        wv.scene.load_scene(path)
+    line = SCENE.splitlines()[4]
+    assert (err.value.line, err.value.column) == (5, line.index("2*M/r") + 1 + 4)
+    assert "unknown name 'q'" in str(err.value) and err.value.key == "metric.line_element"
