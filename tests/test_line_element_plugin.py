@@ -203,3 +203,36 @@ def test_an_expression_error_in_a_scene_file_points_at_its_column(tmp_path):
     line = SCENE.splitlines()[4]
     assert (err.value.line, err.value.column) == (5, line.index("2*M/r") + 1 + 4)
     assert "unknown name 'q'" in str(err.value) and err.value.key == "metric.line_element"
+
+
+def test_a_spacetime_that_is_not_asymptotically_flat_escapes_at_its_escape_radius():
+    """Schwarzschild-de Sitter (the shipped scene's): rays that leave end on the escape sphere inside the
+    cosmological horizon with their direction of motion there, rays that fall in end at the capture radius,
+    and a camera beyond the escape radius is refused."""
+    m = wv.scene.load_scene("line_element_schwarzschild_de_sitter").metric
+    lm = m.landmarks
+    assert lm["horizon"] == pytest.approx(5.003130874065572, rel=1e-12) and lm["photon_sphere"] == 7.5
+    assert lm["escape"] == pytest.approx(0.95 * 197.45149533247064, rel=1e-12)
+    o, d = _fan(200)
+    rays = wv.trace(m, o * 5.0, d, tol=1e-10)  # from (0, -100, 5)
+    out = rays.status_names == "escaped"
+    assert out.any() and (rays.status_names[~out] == "horizon").all()
+    np.testing.assert_allclose(np.linalg.norm(rays.final_positions[out], axis=1), lm["escape"], rtol=1e-9)
+    np.testing.assert_allclose(np.linalg.norm(rays.final_directions[out], axis=1), 1.0, rtol=1e-12)
+    with pytest.raises(ValueError, match="beyond the metric's escape radius"):
+        wv.trace(m, [0.0, -190.0, 0.0], [0.0, 1.0, 0.0])
+
+
+def test_a_dask_worker_rebuilds_the_metric_and_renders_it_bit_for_bit(tmp_path):
+    """The workers are other processes: the metric travels with each task as its definition, each worker
+    loads the plugin from the shared cache (compiling nothing), and the image is the local one."""
+    distributed = pytest.importorskip("distributed")
+    path = tmp_path / "custom.toml"
+    path.write_text(SCENE)
+    local = wv.render(path, spp=2, threads=2)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cl, \
+            distributed.Client(cl) as client:  # fmt: skip
+        remote = wv.render(path, spp=2, client=client, tile=5)
+        name = wv.scene.load_scene(path).metric.name
+        assert list(client.run(lambda: name in {m["name"] for m in wv.registered_metrics()}).values()) == [True]
+    np.testing.assert_array_equal(remote.rgb, local.rgb)

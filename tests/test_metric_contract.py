@@ -15,7 +15,10 @@ IDS = [m.name for m in METRICS]
 
 def test_every_registered_metric_has_a_python_class_and_is_tested():
     registered = {m["name"] for m in wv.registered_metrics()}
-    assert registered == set(_CLASSES) == set(IDS)
+    assert registered == set(_CLASSES) and set(IDS) <= registered
+    # every metric file is tested; line elements loaded after collection (shipped scenes, benchmarks) join the
+    # registry later in a session, and two of them are tested here (conftest.EXPRESSION_METRICS)
+    assert {n for n in registered if not issubclass(_CLASSES[n], LineElementMetric)} <= set(IDS)
     for entry in wv.registered_metrics():
         assert entry["invariants"][0] == "H"
         assert entry["params"] == list(_CLASSES[entry["name"]]._param_names)

@@ -23,8 +23,10 @@ def test_one_scene_per_paper_figure():
     stems = [p.stem for p in SHIPPED]
     for fig in FIGURES:
         assert sum(s.startswith(fig + "_") for s in stems) == 1, fig
-    # besides the figures, only the peer-comparison scenes (benchmarks/)
-    assert sorted(s for s in stems if not s.startswith("fig")) == ["mitsuba_cornell"]
+    # besides the figures, the peer-comparison scene (benchmarks/) and the library of line-element metrics
+    # (docs/line-element.md)
+    assert sorted(s for s in stems if not s.startswith(("fig", "line_element_"))) == ["mitsuba_cornell"]
+    assert len([s for s in stems if s.startswith("line_element_")]) >= 4
 
 
 def _check_vec(v, n=3):

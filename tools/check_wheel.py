@@ -24,7 +24,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: What the unpacked wheel must contain, relative to its root.
 MUST_CONTAIN = ["warpviz/scenes/fig02_accretion_disk.toml", "warpviz/scenes/fig13_wormhole_room_side.toml",
-                "warpviz/scenes/meshes/satellite_panels.obj", "warpviz/scenes/textures/accretion_disk.png"]  # fmt: skip
+                "warpviz/scenes/meshes/satellite_panels.obj", "warpviz/scenes/textures/accretion_disk.png",
+                "warpviz/include/engine/plugin.h", "warpviz/include/engine/plugin_entry.cpp",
+                "warpviz/include/integrators/path_tracer.h"]  # fmt: skip
 
 #: Run in the unpacked wheel: where warpviz and its scenes come from, then the README's main job.
 PROBE = """
@@ -34,6 +36,8 @@ from warpviz.scene.catalog import resolve_scene, shipped_scenes
 print("package", warpviz.__file__)
 print("scene", resolve_scene("fig02"))
 print("scenes", len(shipped_scenes()))
+from warpviz.spacetime.line_element.plugin import include_dir
+print("headers", include_dir())  # a line element's plugin is built against the wheel's own headers
 from warpviz.cli import main
 sys.argv = ["warpviz", "render", "fig02", "-o", sys.argv[1], "--size", "64x48", "--spp", "1", "-q"]
 main()
@@ -80,6 +84,8 @@ def main(argv: list[str] | None = None) -> int:
         problems.append(f"warpviz was imported from {lines.get('package')!r}, not from the unpacked wheel")
     if not lines.get("scene", "").startswith(str(site)):
         problems.append(f"fig02 was found at {lines.get('scene')!r}, not in the wheel")
+    if not lines.get("headers", "").startswith(str(site)):
+        problems.append(f"the C++ headers for line-element plugins are {lines.get('headers')!r}, not the wheel's")
     if not out.is_file():
         problems.append("no fig02.png was written")
     if problems:

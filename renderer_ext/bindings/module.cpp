@@ -446,6 +446,7 @@ nb::dict landmarks(const std::string& metric, const std::vector<double>& params)
   d["throat"] = l.throat;
   d["mass"] = l.mass;
   d["spin"] = l.spin;
+  d["escape"] = l.escape;
   return d;
 }
 

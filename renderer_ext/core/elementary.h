@@ -42,6 +42,18 @@ WV_ELEMENTARY(fabs_of, std::fabs, (x < 0.0 ? -1.0 : 1.0))
 
 #undef WV_ELEMENTARY
 
+// sign(x) = -1, 0, +1 (the derivative of |x|), derivative 0.
+inline double sign_of(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }
+template <int N>
+inline Dual<N> sign_of(const Dual<N>& a) {
+  return Dual<N>(sign_of(a.v));
+}
+WV_INLINE Lanes sign_of(Lanes v) {
+  Lanes r;
+  for (int i = 0; i < kLanes; ++i) r[i] = sign_of(v[i]);
+  return r;
+}
+
 inline double atan2_of(double y, double x) { return std::atan2(y, x); }
 template <int N>
 inline Dual<N> atan2_of(const Dual<N>& y, const Dual<N>& x) {

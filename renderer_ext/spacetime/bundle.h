@@ -53,6 +53,9 @@ std::string origin_problem(const M& m, const double pos[3], int sheet) {
   if (!m.user_to_chart(pos, sheet, x)) return m.outside_chart_message(pos);
   if (m.absorbed(x)) return "lies inside the horizon (r = " + std::to_string(m.radius(x)) +
                              " <= r+ = " + std::to_string(m.horizon_radius()) + ")";
+  if (m.escape_limit() > 0.0 && !(m.radius(x) < m.escape_limit()))
+    return "lies beyond the metric's escape radius (r = " + std::to_string(m.radius(x)) +
+           " >= " + std::to_string(m.escape_limit()) + ", inside which its chart holds)";
   ObserverFrame f;
   if (!wv::observer_frame(m, x, f)) return "has no static or zero-angular-momentum observer there";
   return {};

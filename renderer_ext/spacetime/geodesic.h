@@ -200,12 +200,15 @@ class GeodesicRay {
       // Seed RK4: the fixed base step is halved (powers of two) until it is at most kappa times the
       // distance to the centre, kappa = tol^(1/4) (global error ~ kappa^4).
       if constexpr (!S::kAdaptive) kappa_ = std::min(0.1, std::max(1e-4, std::pow(o.tol, 0.25)));
-      target_ = o.escape_radius;
+      const double limit = m.escape_limit();
+      flat_far_ = !(limit > 0.0);
+      esc_ = flat_far_ ? o.escape_radius : std::min(o.escape_radius, limit);
+      target_ = esc_;
       escaped_ = false;
-      if (m.radius(y) >= o.escape_radius && moving_outward(m, y)) {  // starts outside, moving out
+      if (m.radius(y) >= esc_ && moving_outward(m, y)) {  // starts outside, moving out
         res.sheet = m.chart_to_user(y, sheet, escape_pos_);
         escaped_ = true;
-        target_ = std::max(o.escape_radius, tail_radius(y));
+        target_ = tail_target(y);
         if (m.radius(y) >= target_) return finish_escaped(y);
       }
       r_ = m.radius(y);
@@ -314,8 +317,8 @@ class GeodesicRay {
     if (r_new >= target_ && moving_outward(m, ynew)) {
       if (!escaped_) {
         double frac = 1.0;
-        if (r_ < o.escape_radius) {
-          const double R = o.escape_radius;
+        if (r_ < esc_) {
+          const double R = esc_;
           auto dr = [&](double t) {
             st.dense(y, ynew, h, t, ys);
             return m.radius(ys) - R;
@@ -331,7 +334,7 @@ class GeodesicRay {
         record(ys, lam_ + frac * h, frac * h);
         res.sheet = m.chart_to_user(ys, sheet_, escape_pos_);
         escaped_ = true;
-        target_ = std::max(o.escape_radius, tail_radius(ys));
+        target_ = tail_target(ys);
       }
       if (r_new >= target_) {
         monitor(ynew, hp, herr);  // the end state counts in the drift; the check ran at the crossing
@@ -414,7 +417,14 @@ class GeodesicRay {
     RayResult& res = *res_;
     res.status = kEscaped;
     for (int i = 0; i < 8; ++i) res.y[i] = ys[i];
-    asymptotic_direction(*m_, ys, res.dir);
+    if (flat_far_) {
+      asymptotic_direction(*m_, ys, res.dir);
+    } else {  // no flat infinity to go to: the direction of motion at the escape sphere
+      double f[8];
+      m_->rhs(ys, f);
+      const double n = std::sqrt(f[1] * f[1] + f[2] * f[2] + f[3] * f[3]);
+      for (int i = 0; i < 3; ++i) res.dir[i] = n > 0.0 ? f[1 + i] / n : 0.0;
+    }
     for (int i = 0; i < 3; ++i) res.pos[i] = escape_pos_[i];
     return false;
   }
@@ -459,6 +469,10 @@ class GeodesicRay {
   }
 
   // Radius beyond which the Born tail of asymptotic_direction is accurate to tol for this ray.
+  // Where an escaped ray's integration ends: on to the Born tail's radius where infinity is flat, at the
+  // escape sphere itself where it is not.
+  double tail_target(const double* ys) const { return flat_far_ ? std::max(esc_, tail_radius(ys)) : esc_; }
+
   double tail_radius(const double* ys) const {
     const M& m = *m_;
     const double ell = m.length_scale();
@@ -481,6 +495,8 @@ class GeodesicRay {
   bool relative_[K];  // X0 is not negligible: the reported drift is relative to |X0|
   double h_scale_ = 0.0, lam_ = 0.0, energy0_ = 0.0;
   double r_h_ = 0.0, kappa_ = 0.1, target_ = 0.0, r_ = 0.0;
+  double esc_ = 0.0;      // the escape radius: the trace's, or the metric's escape_limit if smaller
+  bool flat_far_ = true;  // asymptotically flat: an escaped ray integrates on to the Born tail's radius
   bool escaped_ = false;  // crossed the escape sphere; still integrating for the direction
   double escape_pos_[3] = {0, 0, 0};
   bool last_rejected_ = false, reinit_ = false;

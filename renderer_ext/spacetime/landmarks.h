@@ -20,6 +20,7 @@ struct Landmarks {
   double throat = 0.0;      // wormhole throat (areal radius)
   double mass = 0.0;        // length scale M of the strong-field region
   double spin = 0.0;        // a (a length): oblateness of the Kerr-Schild chart's constant-r surfaces
+  double escape = 0.0;      // where rays escape in a spacetime that is not asymptotically flat (escape_limit)
 };
 
 }  // namespace wv

@@ -185,6 +185,7 @@ struct MetricBase {
     Landmarks l;
     l.horizon = self().horizon_radius();
     l.capture = self().capture_radius();
+    l.escape = self().escape_limit();
     return l;
   }
 
@@ -197,6 +198,11 @@ struct MetricBase {
     out[0] = 0.5 * hp.two_h;
     self().conserved(y, hp, out, nullptr);
   }
+
+  // A radius no ray passes in this chart, for a spacetime that is not asymptotically flat (inside a
+  // cosmological horizon, Schwarzschild-de Sitter): rays escape there, with their direction of motion and
+  // no Born tail to infinity (asymptotics.h). 0: asymptotically flat (the trace's escape radius, the tail).
+  double escape_limit() const { return 0.0; }
 
   // Outer horizon radius (0 if none); a ray whose radius drops below it is absorbed.
   double horizon_radius() const { return 0.0; }

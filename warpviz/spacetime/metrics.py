@@ -253,11 +253,14 @@ class Metric:
 
         Examples
         --------
-        >>> import warpviz as wv                                                  # doctest: +SKIP
+        >>> import warpviz as wv
         >>> rn = wv.Metric.from_line_element(
         ...     "-f*dt**2 + dr**2/f + r**2*dOmega**2", coordinates="spherical",
-        ...     definitions={"f": "1 - 2*M/r + Q**2/r**2"}, parameters={"M": 1.0, "Q": 0.5},
-        ...     horizon_radius="M + sqrt(M**2 - Q**2)", name="charged")
+        ...     definitions={"f": "1 - 2*M/r + Q**2/r**2"}, parameters={"M": 1.0, "Q": 0.8},
+        ...     horizon_radius="M + sqrt(M**2 - Q**2)", inner_horizon_radius="M - sqrt(M**2 - Q**2)",
+        ...     photon_sphere_radius="(3*M + sqrt(9*M**2 - 8*Q**2))/2", mass="M", name="static_charged")
+        >>> rn, round(rn.horizon_radius, 12), rn.invariant_names
+        (StaticCharged(M=1.0, Q=0.8), 1.6, ['H', 'E', 'Lz'])
         """
         from warpviz.spacetime.line_element.custom import line_element_definition
 

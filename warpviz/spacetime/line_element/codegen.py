@@ -4,12 +4,14 @@
 
 What is generated from a :class:`~warpviz.spacetime.line_element.tensor.LineElement`:
 
-- ``metric(x, g)`` and ``metric_and_derivatives(x, g, dg)``: g_{μν} and ∂_λ g_{μν} as straight-line code,
-  each scalar definition computed once with its gradient (the chain rule of the tensor module), and sympy's
-  common subexpressions eliminated;
+- ``metric(x, g)``: g_{μν} as straight-line code, each scalar definition computed once, sympy's common
+  subexpressions eliminated;
 - ``inverse_metric`` = the numeric inverse of g (``cofactor_inverse4`` in ``core/linalg.h``), and ``rhs`` = Hamilton's
   equations in the form dx^μ/dλ = u^μ = g^{μν} p_ν, dp_λ/dλ = ½ u^μ u^ν ∂_λ g_{μν} (no symbolic inverse:
-  it would be large, and its derivative larger);
+  it would be large, and its derivative larger), u solved by the 3+1 split (``split_solve4``) wherever the
+  spatial block and the lapse allow (:func:`split_solve_applies`), else from the cofactor inverse. Its body
+  computes g and the ∂_λ g_{μν} that are not identically zero as local values, each definition once with
+  its gradient (the chain rule of the tensor module), after CSE;
 - the conserved quantities it has (E where g does not depend on t, L_z where it is axisymmetric, H always);
 - the landmarks given as expressions of the parameters (horizon, capture radius, photon sphere, ...).
 
@@ -37,12 +39,13 @@ import hashlib
 import itertools
 from collections.abc import Mapping
 
+import numpy as np
 import sympy
 from sympy.printing.c import C99CodePrinter
 
 from warpviz.spacetime.line_element.tensor import LineElement
 
-__all__ = ["metric_source", "source_hash"]
+__all__ = ["metric_source", "source_hash", "split_solve_applies"]
 
 _FUNCTIONS = {"exp": "exp_of", "log": "log_of", "sin": "sin_of", "cos": "cos_of", "tan": "tan_of",
               "sinh": "sinh_of", "cosh": "cosh_of", "tanh": "tanh_of", "asin": "asin_of", "acos": "acos_of",
@@ -99,11 +102,22 @@ class _Printer(C99CodePrinter):
             return f"{_FUNCTIONS[name]}({self._print(expr.args[0])})"
         raise ValueError(f"codegen: function {name} has no C++ form")  # pragma: no cover
 
+    # sympy's C printers have methods of their own for some functions (tanh, ...), found before
+    # _print_Function: every function of the grammar is routed here by name (set below the class).
+
     def _print_Abs(self, expr):
         return f"fabs_of({self._print(expr.args[0])})"
 
+    def _print_sign(self, expr):  # the derivative of |x|
+        return f"sign_of({self._print(expr.args[0])})"
+
     def _print_atan2(self, expr):
         return f"atan2_of({self._print(expr.args[0])}, {self._print(expr.args[1])})"
+
+
+for _name in _FUNCTIONS:
+    setattr(_Printer, f"_print_{_name}", _Printer._print_Function)
+del _name
 
 
 def source_hash(le: LineElement) -> str:
@@ -136,56 +150,100 @@ def _as_t(text: str, is_t: bool) -> str:
     return text if is_t else f"T{{}} + ({text})"
 
 
-def _body(le: LineElement, with_derivatives: bool) -> list[str]:
+def _body(le: LineElement) -> list[str]:
+    """The body of ``metric``: g_{μν}(x) as straight-line code after CSE."""
     names: dict[sympy.Symbol, str] = {c: f"x[{i}]" for i, c in enumerate(le.coords)}
     names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
     tvals = set(le.coords)
     counter = [0]
     lines = []
     for k, (sym, value, grads, grad_values) in enumerate(le.definitions):
-        exprs = [value, *grad_values] if with_derivatives else [value]
-        pre, printed, is_t = _straight_line(exprs, names, tvals, counter)
+        pre, printed, is_t = _straight_line([value], names, tvals, counter)
         lines += pre
         lines.append(f"    const {'T' if is_t[0] else 'double'} d{k} = {printed[0]};  // {sym.name}")
         names[sym] = f"d{k}"
         if is_t[0]:
             tvals.add(sym)
-        if with_derivatives:
-            for mu, g in enumerate(grads):
-                lines.append(f"    const {'T' if is_t[1 + mu] else 'double'} d{k}_{mu} = {printed[1 + mu]};")
-                names[g] = f"d{k}_{mu}"
-                if is_t[1 + mu]:
-                    tvals.add(g)
     pairs = [(a, b) for a in range(4) for b in range(a, 4)]
-    exprs = [le.g[a, b] for a, b in pairs]
-    if with_derivatives:
-        exprs += [le.dg[m][a, b] for m in range(4) for a, b in pairs]
-    pre, printed, is_t = _straight_line(exprs, names, tvals, counter)
+    pre, printed, is_t = _straight_line([le.g[a, b] for a, b in pairs], names, tvals, counter)
     lines += pre
     for (a, b), text, t in zip(pairs, printed, is_t):
         lines.append(f"    g[{a}][{b}] = {_as_t(text, t)};" + (f"\n    g[{b}][{a}] = g[{a}][{b}];" if a != b else ""))
-    if with_derivatives:
-        n = len(pairs)
-        for m in range(4):
-            for (a, b), text, t in zip(pairs, printed[n * (1 + m): n * (2 + m)], is_t[n * (1 + m): n * (2 + m)]):
-                lines.append(f"    dg[{m}][{a}][{b}] = {_as_t(text, t)};"
-                             + (f"\n    dg[{m}][{b}][{a}] = dg[{m}][{a}][{b}];" if a != b else ""))  # fmt: skip
     return lines
 
 
-def _force_lines(le: LineElement) -> list[str]:
-    """dp_l = ½ u^a u^b ∂_l g_ab, summed over the components that are not identically zero (each pair a < b
-    once, doubled): a stationary metric skips ∂_t g, a sparse one most of the rest."""
+def _rhs_lines(le: LineElement, split: bool) -> list[str]:
+    """The body of ``rhs``: the definitions, g and every ∂g component that is not identically zero as local
+    values after CSE (never stored in arrays: in SIMD lanes the arrays' loads and stores cost more than
+    their arithmetic, measured 2.6x), u = g⁻¹p, then dp_l = ½ u^a u^b ∂_l g_ab over those components (each
+    pair a < b once, doubled): a stationary metric skips ∂_t g, a sparse one most of the rest."""
+    names: dict[sympy.Symbol, str] = {c: f"y[{i}]" for i, c in enumerate(le.coords)}
+    names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
+    tvals = set(le.coords)
+    counter = [0]
     lines = []
+    for k, (sym, value, grads, grad_values) in enumerate(le.definitions):
+        pre, printed, is_t = _straight_line([value, *grad_values], names, tvals, counter)
+        lines += pre
+        lines.append(f"    const {'T' if is_t[0] else 'double'} d{k} = {printed[0]};  // {sym.name}")
+        names[sym] = f"d{k}"
+        if is_t[0]:
+            tvals.add(sym)
+        for mu, g in enumerate(grads):
+            if grad_values[mu] == 0:  # never referenced (tensor.LineElement._d leaves zero gradients out)
+                continue
+            lines.append(f"    const {'T' if is_t[1 + mu] else 'double'} d{k}_{mu} = {printed[1 + mu]};")
+            names[g] = f"d{k}_{mu}"
+            if is_t[1 + mu]:
+                tvals.add(g)
+    pairs = [(a, b) for a in range(4) for b in range(a, 4)]
+    forces = [(m, a, b) for m in range(4) for a, b in pairs if le.dg[m][a, b] != 0]
+    exprs = [le.g[a, b] for a, b in pairs] + [le.dg[m][a, b] for m, a, b in forces]
+    pre, printed, is_t = _straight_line(exprs, names, tvals, counter)
+    lines += pre
+    lines.append("    T g[4][4];")
+    for (a, b), text, t in zip(pairs, printed, is_t):
+        lines.append(f"    g[{a}][{b}] = {_as_t(text, t)};" + (f"\n    g[{b}][{a}] = g[{a}][{b}];" if a != b else ""))
+    for (m, a, b), text, t in zip(forces, printed[len(pairs):], is_t[len(pairs):]):
+        lines.append(f"    const T dg{m}_{a}{b} = {_as_t(text, t)};")
+    if split:
+        lines += ["    T u[4];", "    split_solve4(g, y + 4, u);"]
+    else:
+        lines += ["    T gi[4][4], u[4];", "    cofactor_inverse4(g, gi);",
+                  "    for (int a = 0; a < 4; ++a) u[a] = gi[a][0] * y[4] + gi[a][1] * y[5] + gi[a][2] * y[6] + gi[a][3] * y[7];"]  # fmt: skip
+    lines.append("    for (int a = 0; a < 4; ++a) dy[a] = u[a];")
     for m in range(4):
-        terms = []
-        for a in range(4):
-            for b in range(a, 4):
-                if le.dg[m][a, b] != 0:
-                    terms.append(f"u[{a}] * u[{a}] * dg[{m}][{a}][{a}]" if a == b
-                                 else f"2.0 * (u[{a}] * u[{b}] * dg[{m}][{a}][{b}])")  # fmt: skip
+        terms = [f"u[{a}] * u[{a}] * dg{m}_{a}{b}" if a == b else f"2.0 * (u[{a}] * u[{b}] * dg{m}_{a}{b})"
+                 for mm, a, b in forces if mm == m]  # fmt: skip
         lines.append(f"    dy[{4 + m}] = " + (f"0.5 * ({' + '.join(terms)});" if terms else "T{};"))
     return lines
+
+
+def split_solve_applies(le: LineElement, values: Mapping[str, float], *, points: int = 16, seed: int = 5) -> bool:
+    """Whether u = g⁻¹p may be solved by the 3+1 split (``split_solve4`` in core/linalg.h): the spatial block
+    of g invertible and g^{tt} ≠ 0 at ``points`` random chart points (|x| from 2 to 20), each to 1e-9 of the
+    metric's size. Not so in null coordinates (ingoing Eddington–Finkelstein: g_rr = 0), which keep the
+    cofactor inverse."""
+    rng = np.random.default_rng(seed)
+    for _ in range(points):
+        n = rng.normal(size=3)
+        x = [float(rng.uniform(-5.0, 5.0)), *(n / np.linalg.norm(n) * rng.uniform(2.0, 20.0))]
+        with np.errstate(all="ignore"):
+            try:
+                g = le.metric_at(x, values)
+            except (ZeroDivisionError, ValueError, OverflowError):
+                continue
+            if not np.all(np.isfinite(g)):
+                continue
+            scale = np.abs(g).max()
+            det3 = np.linalg.det(g[1:, 1:])
+            if not abs(det3) > 1e-9 * scale**3:
+                return False
+            shift = np.linalg.solve(g[1:, 1:], g[0, 1:])
+            alpha2 = shift @ g[0, 1:] - g[0, 0]
+        if not (np.isfinite(alpha2) and abs(alpha2) > 1e-9 * scale):
+            return False
+    return True
 
 
 def _class_name(name: str) -> str:
@@ -229,7 +287,7 @@ def _landmark_lines(le: LineElement, landmarks: Mapping[str, sympy.Basic]) -> li
 
 def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], summary: str = "",
                   landmarks: Mapping[str, sympy.Basic] | None = None, crosses_horizon: bool = True,
-                  register: bool = True) -> str:  # fmt: skip
+                  split: bool | None = None, register: bool = True) -> str:  # fmt: skip
     """The C++ of a metric struct for ``le`` (module docstring).
 
     Parameters
@@ -243,6 +301,9 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         One line for the registry (default: the line element's kind).
     landmarks : mapping of str to sympy expression, optional, keyword-only
         Landmark radii (:data:`LANDMARKS`) as expressions of the parameters.
+    split : bool or None, keyword-only
+        Solve u = g⁻¹p by the 3+1 split (True), by the cofactor inverse (False), or as
+        :func:`split_solve_applies` finds (None, the default).
     crosses_horizon : bool, keyword-only
         Whether the chart is regular through the horizon (``kChartCrossesHorizon``; False: every ray is
         absorbed at the capture radius, as for a line element in Schwarzschild coordinates).
@@ -306,13 +367,7 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         "  // g_{mu nu}(x)",
         "  template <class T>",
         "  WV_INLINE void metric(const T* x, T g[4][4]) const {",
-        *_body(le, False),
-        "  }",
-        "",
-        "  // g_{mu nu}(x) and dg[l][mu][nu] = d_l g_{mu nu}(x)",
-        "  template <class T>",
-        "  WV_INLINE void metric_and_derivatives(const T* x, T g[4][4], T dg[4][4][4]) const {",
-        *_body(le, True),
+        *_body(le),
         "  }",
         "",
         "  template <class T>",
@@ -325,13 +380,7 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         "  // dx^mu = u^mu = g^{mu nu} p_nu, dp_l = (1/2) u^mu u^nu d_l g_{mu nu} (not inlined: codegen.py)",
         "  template <class T>",
         "  __attribute__((noinline)) void rhs(const T y[8], T dy[8]) const {",
-        "    T g[4][4], dg[4][4][4], gi[4][4];",
-        "    metric_and_derivatives(y, g, dg);",
-        "    cofactor_inverse4(g, gi);",
-        "    T u[4];",
-        "    for (int a = 0; a < 4; ++a) u[a] = gi[a][0] * y[4] + gi[a][1] * y[5] + gi[a][2] * y[6] + gi[a][3] * y[7];",
-        "    for (int a = 0; a < 4; ++a) dy[a] = u[a];",
-        *_force_lines(le),
+        *_rhs_lines(le, split_solve_applies(le, values) if split is None else split),
         "  }",
         "",
         "  double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }",

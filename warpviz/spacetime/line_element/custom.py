@@ -7,20 +7,23 @@ line elements never share a name and the same one always gets the same name, plu
 
 Examples
 --------
->>> import warpviz as wv                                                      # doctest: +SKIP
+>>> import warpviz as wv
 >>> m = wv.Metric.from_line_element(
-...     "-(1 - 2*M/r)*dt**2 + dr**2/(1 - 2*M/r) + r**2*dOmega**2",
-...     coordinates="spherical", parameters={"M": 1.0}, horizon_radius="2*M", photon_sphere_radius="3*M")
->>> m.params, m.horizon_radius
-({'M': 1.0}, 2.0)
+...     "-dt**2 + dx**2 + dy**2 + dz**2 + 2*M/r*(dt + (x*dx + y*dy + z*dz)/r)**2",
+...     parameters={"M": 1.0}, horizon_radius="2*M", photon_sphere_radius="3*M", mass="M", name="ks_schwarzschild")
+>>> m.name.startswith("ks_schwarzschild_"), m.landmarks["capture"]
+(True, 2.5)
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
+import os
 import threading
 from collections.abc import Callable, Mapping
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -140,16 +143,35 @@ def load_definition(definition: Mapping[str, Any], *, progress: Callable[[str], 
     """
     definition = LineElementDefinition(definition)
     key = definition.registry_name
-    values = definition["parameters"]
-    le = LineElement(definition["line_element"], coordinates=definition["coordinates"], parameters=list(values),
-                     definitions=definition["definitions"])  # fmt: skip
-    exprs = _landmark_exprs(le, definition["landmarks"], values)
-    source = metric_source(le, name=key, values=values, landmarks=exprs,
-                           crosses_horizon=_crosses_horizon(le, exprs.get("horizon_radius"), values),
-                           summary=f"{definition['name']}: {' '.join(definition['line_element'].split())}"[:200])  # fmt: skip
+    cached = plugin.cache_dir() / "sources" / f"{key}-{_generator_digest()}.cpp"
+    if cached.is_file():  # generated before by this warpviz: the algebra (seconds for Kerr) is skipped
+        source = cached.read_text()
+    else:
+        values = definition["parameters"]
+        le = LineElement(definition["line_element"], coordinates=definition["coordinates"],
+                         parameters=list(values), definitions=definition["definitions"])  # fmt: skip
+        exprs = _landmark_exprs(le, definition["landmarks"], values)
+        source = metric_source(le, name=key, values=values, landmarks=exprs,
+                               crosses_horizon=_crosses_horizon(le, exprs.get("horizon_radius"), values),
+                               summary=f"{definition['name']}: {' '.join(definition['line_element'].split())}"[:200])  # fmt: skip
     with _LOCK:
         plugin.load_parts(source, ["facts", "dopri5"], progress=progress)
+    if not cached.is_file():  # kept once it compiled, written whole (safe to share)
+        cached.parent.mkdir(parents=True, exist_ok=True)
+        tmp = cached.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(source)
+        os.replace(tmp, cached)
     return source
+
+
+@functools.lru_cache(maxsize=1)
+def _generator_digest() -> str:
+    """What decides a definition's generated source besides the definition: this package's generator
+    modules and sympy's version."""
+    h = hashlib.sha256(sympy.__version__.encode())
+    for module in ("grammar.py", "tensor.py", "codegen.py", "custom.py"):
+        h.update((Path(__file__).parent / module).read_bytes())
+    return h.hexdigest()[:12]
 
 
 def ensure_renderer(source: str, stepper: str, progress: Callable[[str], None] | None = None) -> None:

@@ -164,8 +164,8 @@ class LineElement:
     def _d(self, expr, mu: int):
         """∂expr/∂x^μ through the definitions (each definition's derivative is its gradient symbol)."""
         out = expr.diff(self.coords[mu])
-        for sym, _, grads, _ in self.definitions:
-            if expr.has(sym):
+        for sym, _, grads, grad_values in self.definitions:
+            if expr.has(sym) and grad_values[mu] != 0:  # (∂_t r = 0: no term, so ∂_t g is exactly 0)
                 out += expr.diff(sym) * grads[mu]
         return out
 
