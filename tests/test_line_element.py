@@ -147,7 +147,7 @@ def test_bad_line_elements_are_named(kwargs, where, says):
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
 
 
-def _compiled_values(le, name, values, states, tmp_path, split=None):
+def _compiled_values(le, name, values, states, tmp_path, split=None, structure="auto"):
     """Compile the generated struct into a small program that prints, for each state, g^{mu nu}, rhs, the
     contract's dual-number rhs and rhs in SIMD lanes; returns them as arrays."""
     import shutil
@@ -158,7 +158,8 @@ def _compiled_values(le, name, values, states, tmp_path, split=None):
     compiler = shutil.which("c++") or shutil.which("g++")
     if compiler is None:
         pytest.skip("no C++ compiler on this machine (the generated code is checked where there is one)")
-    (tmp_path / "gen.h").write_text(metric_source(le, name=name, values=values, register=False, split=split))
+    (tmp_path / "gen.h").write_text(metric_source(le, name=name, values=values, register=False, split=split,
+                                                  structure=structure))
     cls = "".join(p[:1].upper() + p[1:] for p in name.split("_"))
     rows = ",".join("{" + ",".join(repr(float(v)) for v in s) + "}" for s in states)
     params = ",".join(repr(float(values[p.name])) for p in le.params)
@@ -191,17 +192,19 @@ int main() {{
     return np.array([[float(v) for v in line.split()] for line in out.strip().splitlines()])
 
 
-@pytest.mark.parametrize("split", [True, False], ids=["split_solve", "cofactor_inverse"])
+@pytest.mark.parametrize("structure, split", [("auto", None), ("general", True), ("general", False)],
+                         ids=["kerr_schild_closed_form", "split_solve", "cofactor_inverse"])
 @pytest.mark.parametrize("metric, text, params, definitions", [
     ("schwarzschild", SCHWARZSCHILD_KS, {"M": 1.3}, None),
     ("kerr", "-dt**2 + dx**2 + dy**2 + dz**2 + f*l**2", {"M": 1.2, "spin": 0.7}, KERR_DEFINITIONS),
 ])  # fmt: skip
 def test_the_generated_cpp_equals_the_built_in_metric_for_doubles_duals_and_lanes(tmp_path, metric, text, params,
-                                                                                   definitions, split):  # fmt: skip
-    """Both ways of solving u = g⁻¹p (the 3+1 split and the cofactor inverse) give the built-in rhs."""
+                                                                                   definitions, structure, split):  # fmt: skip
+    """Every form of the generated Hamilton equations gives the built-in rhs: H from the closed-form inverse
+    of a Kerr-Schild line element, and g⁻¹p solved by the 3+1 split or the cofactor inverse."""
     le = LineElement(text, parameters=list(params), definitions=definitions)
     states = [x + MOMENTUM for x in POINTS]
-    got = _compiled_values(le, f"expr_{metric}", params, states, tmp_path, split=split)
+    got = _compiled_values(le, f"expr_{metric}", params, states, tmp_path, split=split, structure=structure)
     for y, row in zip(states, got):
         built_gi = testing.inverse_metric(metric, list(params.values()), np.array(y[:4]))
         built = testing.rhs(metric, list(params.values()), np.array(y))
@@ -239,3 +242,13 @@ def test_every_function_of_the_grammar_compiles_for_doubles_duals_and_lanes(tmp_
         np.testing.assert_allclose(row[16:24], want, rtol=0, atol=1e-13 * scale)
         np.testing.assert_allclose(row[24:32], want, rtol=0, atol=1e-12 * scale)
         np.testing.assert_array_equal(row[32:40], row[16:24])
+
+
+def test_kerr_schild_form_is_recognised_and_nothing_else():
+    from warpviz.spacetime.line_element.codegen import kerr_schild_form
+
+    f, k = kerr_schild_form(LineElement(SCHWARZSCHILD_KS, parameters=["M"]))
+    assert k[0] == 1 and sympy.simplify(f - 2 * sympy.Symbol("M", real=True) / sympy.Symbol("r", real=True)) == 0
+    assert kerr_schild_form(LineElement("-dt**2 + dx**2 + dy**2 + dz**2 + f*l**2", parameters=["M", "spin"],
+                                        definitions=KERR_DEFINITIONS)) is not None  # fmt: skip
+    assert kerr_schild_form(LineElement(RN_SPHERICAL, coordinates="spherical", parameters=["M", "Q"])) is None

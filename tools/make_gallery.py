@@ -93,6 +93,12 @@ def has_stars(scene) -> bool:
     return any((native.get(key) or {}).get("stars") is not None for key in ("environment", "environment_other"))
 
 
+def short_name(path: Path) -> str:
+    """A scene's picture name: its figure (``fig07``) or first word (``mitsuba``), or the whole stem for the
+    line-element library (``line_element_kerr_newman``), whose scenes share their first words."""
+    return path.stem if path.stem.startswith("line_element_") else path.stem.split("_")[0]
+
+
 def settings(scene, quality: str, *, spp: int | None = None, denoise: bool | None = None,
              seconds: float | None = None, room_seconds: float | None = None) -> dict:
     """The render's ``size``, ``spp``, ``seconds`` (time budget) and ``denoise`` for ``scene`` at
@@ -317,17 +323,17 @@ def main(argv: list[str] | None = None) -> int:
     def rewrite() -> None:
         rows = []
         for path, _, s in scenes:
-            short = path.stem.split("_")[0]
+            short = short_name(path)
             rows.append(_row(short, path.relative_to(ROOT).as_posix(), scene_description(path), s,
                              metas.get(short), out, GALLERY, args.readme, timing))  # fmt: skip
         write_table(rows, readme=args.readme, timing=timing, room_row=_room_row(metas, out, args.readme))
 
     for path, _, _ in scenes:
-        short = path.stem.split("_")[0]
+        short = short_name(path)
         metas[short] = png_metadata(out / f"{short}.png")
     for path, scene, s in scenes:
         name = path.stem
-        short = name.split("_")[0]
+        short = short_name(path)
         if args.only is not None and short not in args.only and name not in args.only:
             continue
         try:

@@ -6,6 +6,9 @@ What is generated from a :class:`~warpviz.spacetime.line_element.tensor.LineElem
 
 - ``metric(x, g)``: g_{μν} as straight-line code, each scalar definition computed once, sympy's common
   subexpressions eliminated;
+- for a line element of Kerr–Schild form, g = η + f k⊗k (:func:`kerr_schild_form`), ``rhs`` = the gradient
+  of H = ½ η p p − ½ f (k̂·p)² / (1 + f k̂·k) from the closed-form inverse, differentiated symbolically
+  with CSE (what the hand-written files do; as fast as they are, benchmarks/README.md); otherwise:
 - ``inverse_metric`` = the numeric inverse of g (``cofactor_inverse4`` in ``core/linalg.h``), and ``rhs`` = Hamilton's
   equations in the form dx^μ/dλ = u^μ = g^{μν} p_ν, dp_λ/dλ = ½ u^μ u^ν ∂_λ g_{μν} (no symbolic inverse:
   it would be large, and its derivative larger), u solved by the 3+1 split (``split_solve4``) wherever the
@@ -45,7 +48,7 @@ from sympy.printing.c import C99CodePrinter
 
 from warpviz.spacetime.line_element.tensor import LineElement
 
-__all__ = ["metric_source", "source_hash", "split_solve_applies"]
+__all__ = ["kerr_schild_form", "metric_source", "source_hash", "split_solve_applies"]
 
 _FUNCTIONS = {"exp": "exp_of", "log": "log_of", "sin": "sin_of", "cos": "cos_of", "tan": "tan_of",
               "sinh": "sinh_of", "cosh": "cosh_of", "tanh": "tanh_of", "asin": "asin_of", "acos": "acos_of",
@@ -172,15 +175,24 @@ def _body(le: LineElement) -> list[str]:
     return lines
 
 
-def _rhs_lines(le: LineElement, split: bool) -> list[str]:
-    """The body of ``rhs``: the definitions, g and every ∂g component that is not identically zero as local
-    values after CSE (never stored in arrays: in SIMD lanes the arrays' loads and stores cost more than
-    their arithmetic, measured 2.6x), u = g⁻¹p, then dp_l = ½ u^a u^b ∂_l g_ab over those components (each
-    pair a < b once, doubled): a stationary metric skips ∂_t g, a sparse one most of the rest."""
-    names: dict[sympy.Symbol, str] = {c: f"y[{i}]" for i, c in enumerate(le.coords)}
-    names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
-    tvals = set(le.coords)
-    counter = [0]
+def kerr_schild_form(le: LineElement) -> tuple[sympy.Basic, list] | None:
+    """``(f, k)`` if g = η + f k⊗k with k_t = 1 (Kerr–Schild form: Schwarzschild, Reissner–Nordström, Kerr,
+    Kerr–Newman written so), else None. Found from g − η: f = (g − η)_tt, k_i = (g − η)_ti / f, and every
+    component must equal f k_a k_b identically (rational identities in the coordinates and definitions)."""
+    eta = sympy.diag(-1, 1, 1, 1)
+    F = le.g - eta
+    f = F[0, 0]
+    if f == 0:
+        return None
+    for a in range(4):
+        for b in range(a, 4):
+            if sympy.cancel(F[a, b] * f - F[0, a] * F[0, b]) != 0:
+                return None
+    return f, [sympy.Integer(1)] + [sympy.cancel(F[0, i] / f) for i in range(1, 4)]
+
+
+def _definition_lines(le: LineElement, names: dict, tvals: set, counter: list) -> list[str]:
+    """Each definition once with its gradient (the chain rule of the tensor module), as locals."""
     lines = []
     for k, (sym, value, grads, grad_values) in enumerate(le.definitions):
         pre, printed, is_t = _straight_line([value, *grad_values], names, tvals, counter)
@@ -196,6 +208,42 @@ def _rhs_lines(le: LineElement, split: bool) -> list[str]:
             names[g] = f"d{k}_{mu}"
             if is_t[1 + mu]:
                 tvals.add(g)
+    return lines
+
+
+def _kerr_schild_rhs_lines(le: LineElement, f: sympy.Basic, k: list) -> list[str]:
+    """Hamilton's equations of g = η + f k⊗k from its closed-form inverse (Sherman–Morrison):
+    g^{μν} = η^{μν} − f k̂^μ k̂^ν / (1 + f k̂·k), k̂ = η k, so H = ½ η p p − ½ f (k̂·p)² / (1 + f k̂·k)
+    (the denominator is 1 for a null k, as in the hand-written files), differentiated symbolically."""
+    P = sympy.symbols("P0:4", real=True)
+    eta = (-1, 1, 1, 1)
+    khat_p = sum(eta[a] * k[a] * P[a] for a in range(4))
+    kk = sum(eta[a] * k[a] * k[a] for a in range(4))
+    H = sympy.Rational(1, 2) * sum(eta[a] * P[a] ** 2 for a in range(4)) - f * khat_p**2 / (2 * (1 + f * kk))
+    names: dict[sympy.Symbol, str] = {c: f"y[{i}]" for i, c in enumerate(le.coords)}
+    names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
+    names.update({P[a]: f"y[{4 + a}]" for a in range(4)})
+    tvals = set(le.coords) | set(P)
+    counter = [0]
+    lines = _definition_lines(le, names, tvals, counter)
+    exprs = [H.diff(P[a]) for a in range(4)] + [-le._d(H, m) for m in range(4)]
+    pre, printed, is_t = _straight_line(exprs, names, tvals, counter)
+    lines += pre
+    for i, (text, t, e) in enumerate(zip(printed, is_t, exprs)):
+        lines.append(f"    dy[{i}] = {'T{}' if e == 0 else _as_t(text, t)};")
+    return lines
+
+
+def _rhs_lines(le: LineElement, split: bool) -> list[str]:
+    """The body of ``rhs``: the definitions, g and every ∂g component that is not identically zero as local
+    values after CSE (never stored in arrays: in SIMD lanes the arrays' loads and stores cost more than
+    their arithmetic, measured 2.6x), u = g⁻¹p, then dp_l = ½ u^a u^b ∂_l g_ab over those components (each
+    pair a < b once, doubled): a stationary metric skips ∂_t g, a sparse one most of the rest."""
+    names: dict[sympy.Symbol, str] = {c: f"y[{i}]" for i, c in enumerate(le.coords)}
+    names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
+    tvals = set(le.coords)
+    counter = [0]
+    lines = _definition_lines(le, names, tvals, counter)
     pairs = [(a, b) for a in range(4) for b in range(a, 4)]
     forces = [(m, a, b) for m in range(4) for a, b in pairs if le.dg[m][a, b] != 0]
     exprs = [le.g[a, b] for a, b in pairs] + [le.dg[m][a, b] for m, a, b in forces]
@@ -246,6 +294,15 @@ def split_solve_applies(le: LineElement, values: Mapping[str, float], *, points:
     return True
 
 
+def _rhs_body(le: LineElement, values: Mapping[str, float], split: bool | None, structure: str) -> list[str]:
+    if structure not in ("auto", "general"):
+        raise ValueError(f"structure must be 'auto' or 'general', got {structure!r}")
+    ks = kerr_schild_form(le) if structure == "auto" else None
+    if ks is not None:
+        return _kerr_schild_rhs_lines(le, *ks)
+    return _rhs_lines(le, split_solve_applies(le, values) if split is None else split)
+
+
 def _class_name(name: str) -> str:
     return "".join(part[:1].upper() + part[1:] for part in name.split("_") if part) or "Custom"
 
@@ -287,7 +344,7 @@ def _landmark_lines(le: LineElement, landmarks: Mapping[str, sympy.Basic]) -> li
 
 def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], summary: str = "",
                   landmarks: Mapping[str, sympy.Basic] | None = None, crosses_horizon: bool = True,
-                  split: bool | None = None, register: bool = True) -> str:  # fmt: skip
+                  split: bool | None = None, structure: str = "auto", register: bool = True) -> str:  # fmt: skip
     """The C++ of a metric struct for ``le`` (module docstring).
 
     Parameters
@@ -301,6 +358,10 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         One line for the registry (default: the line element's kind).
     landmarks : mapping of str to sympy expression, optional, keyword-only
         Landmark radii (:data:`LANDMARKS`) as expressions of the parameters.
+    structure : {"auto", "general"}, keyword-only
+        ``"auto"``: a line element of Kerr–Schild form (:func:`kerr_schild_form`) gets Hamilton's equations
+        from its closed-form inverse, differentiated symbolically, as the hand-written files have them;
+        ``"general"``: always g, ∂g and the numeric solve.
     split : bool or None, keyword-only
         Solve u = g⁻¹p by the 3+1 split (True), by the cofactor inverse (False), or as
         :func:`split_solve_applies` finds (None, the default).
@@ -380,7 +441,7 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         "  // dx^mu = u^mu = g^{mu nu} p_nu, dp_l = (1/2) u^mu u^nu d_l g_{mu nu} (not inlined: codegen.py)",
         "  template <class T>",
         "  __attribute__((noinline)) void rhs(const T y[8], T dy[8]) const {",
-        *_rhs_lines(le, split_solve_applies(le, values) if split is None else split),
+        *_rhs_body(le, values, split, structure),
         "  }",
         "",
         "  double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }",
