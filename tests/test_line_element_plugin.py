@@ -236,3 +236,13 @@ def test_a_dask_worker_rebuilds_the_metric_and_renders_it_bit_for_bit(tmp_path):
         name = wv.scene.load_scene(path).metric.name
         assert list(client.run(lambda: name in {m["name"] for m in wv.registered_metrics()}).values()) == [True]
     np.testing.assert_array_equal(remote.rgb, local.rgb)
+
+
+def test_parameters_that_make_a_landmark_unreal_are_refused_by_name():
+    """The landmarks are the line element's relation between its parameters (|Q| <= M for a horizon):
+    the core refuses other values, naming the landmark, as it refuses |Q| > M for the built-in metric."""
+    m = expression_metric("static_charged")
+    assert "every landmark" in m.registry_entry["param_relation"]
+    with pytest.raises(ValueError, match=r"horizon_radius = M \+ sqrt\(M\*\*2 - Q\*\*2\) is -?nan, not a real radius"):
+        type(m)(M=1.0, Q=1.5)
+    assert type(m)(M=1.0, Q=0.9).horizon_radius == pytest.approx(1.0 + 0.19**0.5, rel=1e-14)

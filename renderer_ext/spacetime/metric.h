@@ -31,7 +31,9 @@
 // and may override the defaults of MetricBase: a relation between parameters (`param_relation_problem`,
 // documented by kParamRelation, e.g. |Q| < M), a hand-written Hamiltonian right-hand side `rhs`
 // (checked against `rhs_autodiff` to 1e-12 by the contract tests), a horizon (`absorbed`,
-// `horizon_radius`), a chart change between sheets (`normalize_chart`, Ellis), and the map between the
+// `horizon_radius`; `kChartCrossesHorizon = false` for a chart that ends at the horizon), a radius rays escape
+// at in a spacetime that is not asymptotically flat (`escape_limit`), a chart change between sheets
+// (`normalize_chart`, Ellis), and the map between the
 // integration chart and the Cartesian frame the user sees (`chart_to_user`, `user_to_chart`), and, for a
 // static spherically symmetric metric, `kStaticSpherical = true` with `spherical_lens()` (lens_map.h:
 // A(u) and h(u) with ds^2 = -A dt^2 + dR^2 / (A h) + R^2 dOmega^2, u = 1 / R; the contract tests check

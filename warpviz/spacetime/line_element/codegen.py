@@ -342,6 +342,23 @@ def _landmark_lines(le: LineElement, landmarks: Mapping[str, sympy.Basic]) -> li
     return lines
 
 
+def _relation_lines(le: LineElement, landmarks: Mapping[str, sympy.Basic]) -> list[str]:
+    """The parameters' relation: every landmark a real radius >= 0 (sqrt(M**2 - Q**2) needs |Q| <= M), so
+    the core refuses other values by name, as it refuses |Q| > M for the built-in metric."""
+    if not landmarks:
+        return []
+    names = {p: f"p[{i}]" for i, p in enumerate(le.params)}
+    keys = sorted(landmarks)
+    lines = [f'  static constexpr const char* kParamRelation = "every landmark ({", ".join(keys)}) is a real radius >= 0";',
+             "  static std::string param_relation_problem(const double* p) {",
+             "    (void)p;"]  # fmt: skip
+    for key in keys:
+        text = str(landmarks[key]).replace('"', "").replace("\\", "")
+        lines += [f"    if (const double v = {_Printer(names).doprint(sympy.sympify(landmarks[key]))}; !(v >= 0.0))",
+                  f'      return "{key} = {text} is " + std::to_string(v) + ", not a real radius >= 0";']  # fmt: skip
+    return [*lines, "    return {};", "  }"]
+
+
 def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], summary: str = "",
                   landmarks: Mapping[str, sympy.Basic] | None = None, crosses_horizon: bool = True,
                   split: bool | None = None, structure: str = "auto", register: bool = True) -> str:  # fmt: skip
@@ -401,6 +418,7 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         "// Do not edit: warpviz/spacetime/line_element/codegen.py writes it.",
         "#include <algorithm>",
         "#include <cmath>",
+        "#include <string>",
         "#include <vector>",
         "",
         '#include "core/elementary.h"',
@@ -416,6 +434,7 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         f'  static constexpr const char* kClassName = "{cls}";',
         f'  static constexpr const char* kSummary = "{(summary or "Spacetime from its line element").replace(chr(34), "")}";',
         param_block.rstrip("\n"),
+        *_relation_lines(le, landmarks or {}),
         *([] if crosses_horizon else ["  static constexpr bool kChartCrossesHorizon = false;"]),
         f"  static constexpr int kNumInvariants = {len(invariants)};",
         f"  static constexpr const char* kInvariantNames[kNumInvariants] = {{{names}}};",
