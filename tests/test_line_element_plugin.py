@@ -246,3 +246,30 @@ def test_parameters_that_make_a_landmark_unreal_are_refused_by_name():
     with pytest.raises(ValueError, match=r"horizon_radius = M \+ sqrt\(M\*\*2 - Q\*\*2\) is -?nan, not a real radius"):
         type(m)(M=1.0, Q=1.5)
     assert type(m)(M=1.0, Q=0.9).horizon_radius == pytest.approx(1.0 + 0.19**0.5, rel=1e-14)
+
+
+def test_the_flat_limit_traces_straight_lines():
+    """M = 0 makes the Kerr-Schild line element Minkowski's: every ray escapes in its starting direction."""
+    m = expression_metric("ks_schwarzschild")
+    flat = type(m)(M=0.0)
+    o, d = _fan(100)
+    rays = wv.trace(flat, o, d, tol=1e-10)
+    assert set(rays.status_names) == {"escaped"}
+    np.testing.assert_allclose(rays.final_directions, d, rtol=0, atol=1e-12)
+
+
+def test_kerr_written_in_kerr_schild_form_traces_as_the_built_in_metric():
+    """Kerr a = 0.9 from its line element: the rays that escape from the built-in leave in the same directions
+    to 1e-9 (falling rays end a little deeper here: at |x| = r+ rather than Boyer-Lindquist r = r+)."""
+    from test_line_element import KERR_DEFINITIONS
+
+    m = wv.Metric.from_line_element("-dt**2 + dx**2 + dy**2 + dz**2 + f*l**2", parameters={"M": 1.0, "spin": 0.9},
+                                    definitions=KERR_DEFINITIONS, horizon_radius="M + sqrt(M**2 - (spin*M)**2)",
+                                    mass="M", name="kerr_ks")  # fmt: skip
+    assert m.invariant_names == ["H", "E", "Lz"]
+    o, d = _fan(400)
+    a, b = wv.trace(m, o, d, tol=1e-12), wv.trace(wv.Kerr(mass=1.0, spin=0.9), o, d, tol=1e-12)
+    out = b.status_names == "escaped"
+    assert out.sum() > 100 and (a.status_names == b.status_names).mean() > 0.99
+    both = out & (a.status_names == "escaped")
+    assert np.abs(a.final_directions[both] - b.final_directions[both]).max() < 1e-9
