@@ -273,3 +273,11 @@ def test_kerr_written_in_kerr_schild_form_traces_as_the_built_in_metric():
     assert out.sum() > 100 and (a.status_names == b.status_names).mean() > 0.99
     both = out & (a.status_names == "escaped")
     assert np.abs(a.final_directions[both] - b.final_directions[both]).max() < 1e-9
+
+
+def test_a_cache_folder_that_cannot_be_written_says_how_to_choose_another(tmp_path, monkeypatch):
+    blocker = tmp_path / "not-a-folder"
+    blocker.write_text("")
+    monkeypatch.setenv("WARPVIZ_CACHE_DIR", str(blocker))
+    with pytest.raises(plugin_mod.PluginBuildError, match="set WARPVIZ_CACHE_DIR to a folder you can write"):
+        plugin_mod.build_parts("// nothing\n", ["facts"])

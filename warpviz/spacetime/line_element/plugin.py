@@ -54,7 +54,9 @@ class CompilerNotFoundError(RuntimeError):
 
 
 class PluginBuildError(RuntimeError):
-    """The compiler refused a generated metric file (a warpviz bug: the message holds its diagnostics)."""
+    """A plugin could not be built: the cache folder cannot be written (the message says how to choose
+    another), or the compiler refused a generated metric file (a warpviz bug: the message holds its
+    diagnostics)."""
 
 
 def cache_dir() -> Path:
@@ -175,7 +177,11 @@ def build_parts(source: str, parts: Sequence[str], *,
     todo = [p for p in parts if not out[p].is_file()]
     if not todo:
         return out
-    folder.mkdir(parents=True, exist_ok=True)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise PluginBuildError(f"cannot create the metric cache {folder}: {exc.strerror or exc}; set "
+                               "WARPVIZ_CACHE_DIR to a folder you can write") from None  # fmt: skip
     if progress is None and sys.stderr is not None and sys.stderr.isatty():
         progress = lambda line: print(f"warpviz: {line}", file=sys.stderr, flush=True)  # noqa: E731
     if progress:
