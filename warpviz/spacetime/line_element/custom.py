@@ -77,7 +77,7 @@ def _definition(line_element: str, coordinates: str, parameters: Mapping[str, fl
 
 
 def _landmark_exprs(le: LineElement, landmarks: Mapping[str, str], values: Mapping[str, float]) -> dict:
-    """Each landmark parsed over the parameters only, and checked to be a positive radius at ``values``."""
+    """Each landmark parsed over the parameters only, and checked to be a real radius >= 0 at ``values``."""
     names = {p.name: p for p in le.params}
     out = {}
     for key, text in landmarks.items():
