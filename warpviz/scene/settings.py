@@ -40,9 +40,7 @@ def _custom_metric(r: _Reader, tbl: dict) -> Metric:
     the file where they go wrong) before it is compiled on first use."""
     from warpviz.spacetime.line_element import LineElementError
     from warpviz.spacetime.line_element.codegen import LANDMARKS
-    from warpviz.spacetime.line_element.custom import line_element_definition
     from warpviz.spacetime.line_element.tensor import COORDINATES
-    from warpviz.spacetime.metrics import line_element_class
 
     path = ("metric",)
     r.table(path, tbl, [*CUSTOM_METRIC_KEYS, *LANDMARKS], required=("line_element",), what="[metric] (custom)")
@@ -57,16 +55,14 @@ def _custom_metric(r: _Reader, tbl: dict) -> Metric:
     definitions = {k: r.string(defs, path + ("definitions",), k) for k in defs}
     landmarks = {k: r.string(tbl, path, k) for k in LANDMARKS if k in tbl}
     try:
-        definition = line_element_definition(text, coordinates=coordinates, parameters=values,
-                                             definitions=definitions, name=label, **landmarks)  # fmt: skip
-        cls = line_element_class(definition)
+        return Metric.from_line_element(text, coordinates=coordinates, parameters=values, definitions=definitions,
+                                        name=label, **landmarks)  # fmt: skip
     except LineElementError as exc:
         where = exc.where.split(".")
         key = path + (("label",) if where == ["name"] else tuple(where))
         raise r.error(key, f"metric.{exc.where}: {exc.reason}", inside=exc.column) from None
     except RuntimeError as exc:  # no compiler (says what to install), or a plugin the core refused
         raise r.error(path, f"metric: {exc}", at_value=False) from None
-    return cls(**values)
 
 
 def _metric(r: _Reader, tbl: Any) -> Metric:

@@ -488,11 +488,8 @@ def metric_from_dict(spec: dict[str, Any]) -> Metric:
     """
     spec = dict(spec)
     if spec.get("name") == "custom":  # a metric from its line element (LineElementMetric.to_dict)
-        from warpviz.spacetime.line_element.custom import line_element_definition
-
         spec.pop("name")
-        definition = line_element_definition(spec.pop("line_element", None), name=spec.pop("label", "custom"), **spec)
-        return line_element_class(definition)(**definition["parameters"])
+        return Metric.from_line_element(spec.pop("line_element", None), name=spec.pop("label", "custom"), **spec)
     cls = metric_class(spec.pop("name", None))
     unknown = set(spec) - set(cls._param_names)
     if unknown:

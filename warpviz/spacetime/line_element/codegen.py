@@ -153,20 +153,18 @@ def _as_t(text: str, is_t: bool) -> str:
     return text if is_t else f"T{{}} + ({text})"
 
 
+def _scope(le: LineElement, state: str) -> tuple[dict, set, list]:
+    """The C++ names of the coordinates (``state[i]``) and parameters (``p_[i]``), the T-valued symbols and
+    the counter of common subexpressions, where a generated method's body starts."""
+    names: dict[sympy.Symbol, str] = {c: f"{state}[{i}]" for i, c in enumerate(le.coords)}
+    names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
+    return names, set(le.coords), [0]
+
+
 def _body(le: LineElement) -> list[str]:
     """The body of ``metric``: g_{μν}(x) as straight-line code after CSE."""
-    names: dict[sympy.Symbol, str] = {c: f"x[{i}]" for i, c in enumerate(le.coords)}
-    names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
-    tvals = set(le.coords)
-    counter = [0]
-    lines = []
-    for k, (sym, value, grads, grad_values) in enumerate(le.definitions):
-        pre, printed, is_t = _straight_line([value], names, tvals, counter)
-        lines += pre
-        lines.append(f"    const {'T' if is_t[0] else 'double'} d{k} = {printed[0]};  // {sym.name}")
-        names[sym] = f"d{k}"
-        if is_t[0]:
-            tvals.add(sym)
+    names, tvals, counter = _scope(le, "x")
+    lines = _definition_lines(le, names, tvals, counter, gradients=False)
     pairs = [(a, b) for a in range(4) for b in range(a, 4)]
     pre, printed, is_t = _straight_line([le.g[a, b] for a, b in pairs], names, tvals, counter)
     lines += pre
@@ -191,17 +189,18 @@ def kerr_schild_form(le: LineElement) -> tuple[sympy.Basic, list] | None:
     return f, [sympy.Integer(1)] + [sympy.cancel(F[0, i] / f) for i in range(1, 4)]
 
 
-def _definition_lines(le: LineElement, names: dict, tvals: set, counter: list) -> list[str]:
-    """Each definition once with its gradient (the chain rule of the tensor module), as locals."""
+def _definition_lines(le: LineElement, names: dict, tvals: set, counter: list, *, gradients: bool = True) -> list[str]:
+    """Each definition once, with its gradient (the chain rule of the tensor module) if ``gradients``, as locals."""
     lines = []
     for k, (sym, value, grads, grad_values) in enumerate(le.definitions):
+        grad_values = grad_values if gradients else ()
         pre, printed, is_t = _straight_line([value, *grad_values], names, tvals, counter)
         lines += pre
         lines.append(f"    const {'T' if is_t[0] else 'double'} d{k} = {printed[0]};  // {sym.name}")
         names[sym] = f"d{k}"
         if is_t[0]:
             tvals.add(sym)
-        for mu, g in enumerate(grads):
+        for mu, g in enumerate(grads[:len(grad_values)]):
             if grad_values[mu] == 0:  # never referenced (tensor.LineElement._d leaves zero gradients out)
                 continue
             lines.append(f"    const {'T' if is_t[1 + mu] else 'double'} d{k}_{mu} = {printed[1 + mu]};")
@@ -220,11 +219,9 @@ def _kerr_schild_rhs_lines(le: LineElement, f: sympy.Basic, k: list) -> list[str
     khat_p = sum(eta[a] * k[a] * P[a] for a in range(4))
     kk = sum(eta[a] * k[a] * k[a] for a in range(4))
     H = sympy.Rational(1, 2) * sum(eta[a] * P[a] ** 2 for a in range(4)) - f * khat_p**2 / (2 * (1 + f * kk))
-    names: dict[sympy.Symbol, str] = {c: f"y[{i}]" for i, c in enumerate(le.coords)}
-    names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
+    names, tvals, counter = _scope(le, "y")
     names.update({P[a]: f"y[{4 + a}]" for a in range(4)})
-    tvals = set(le.coords) | set(P)
-    counter = [0]
+    tvals |= set(P)
     lines = _definition_lines(le, names, tvals, counter)
     exprs = [H.diff(P[a]) for a in range(4)] + [-le._d(H, m) for m in range(4)]
     pre, printed, is_t = _straight_line(exprs, names, tvals, counter)
@@ -239,10 +236,7 @@ def _rhs_lines(le: LineElement, split: bool) -> list[str]:
     values after CSE (never stored in arrays: in SIMD lanes the arrays' loads and stores cost more than
     their arithmetic, measured 2.6x), u = g⁻¹p, then dp_l = ½ u^a u^b ∂_l g_ab over those components (each
     pair a < b once, doubled): a stationary metric skips ∂_t g, a sparse one most of the rest."""
-    names: dict[sympy.Symbol, str] = {c: f"y[{i}]" for i, c in enumerate(le.coords)}
-    names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
-    tvals = set(le.coords)
-    counter = [0]
+    names, tvals, counter = _scope(le, "y")
     lines = _definition_lines(le, names, tvals, counter)
     pairs = [(a, b) for a in range(4) for b in range(a, 4)]
     forces = [(m, a, b) for m in range(4) for a, b in pairs if le.dg[m][a, b] != 0]
