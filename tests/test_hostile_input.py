@@ -89,6 +89,15 @@ BAD_SCENES = [
      'line_element = "-dt**2 + dx**2/(M - M) + dy**2 + dz**2"\nparameters = { M = 1.0 }'), "division by zero"),
     ("landmark of a coordinate", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "custom"\n'
      'line_element = "-dt**2 + dx**2 + dy**2 + dz**2"\nhorizon_radius = "2*r"'), "metric.horizon_radius: unknown name 'r'"),
+    # moving observers (docs/observers.md): impossible ones refused at the key, before any work
+    ("camera faster than light", SCENE.replace("fov = 40", "fov = 40\nvelocity = [0.9, 0.9, 0]"), "bad.toml:9:12: camera.velocity has speed 1.27279 c"),
+    ("camera velocity of infinity", SCENE.replace("fov = 40", "fov = 40\nvelocity = [inf, 0, 0]"), "camera.velocity"),
+    ("static camera in the ergoregion", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "kerr"\nmass = 1.0\nspin = 0.9')
+     .replace("position = [0, -20, 0]", "position = [0, -1.9, 0]\nobserver = \"static\""), "no static observer here"),
+    ("orbit inside the photon sphere", SCENE.replace("position = [0, -20, 0]", 'position = [0, -2.9, 0]\nobserver = "orbit"'),
+     "faster than light"),
+    ("fall from below the camera", SCENE.replace("fov = 40", 'fov = 40\nobserver = "free_fall"\nfall_from = 10.0'), "above it"),
+    ("static camera inside the horizon", SCENE.replace("position = [0, -20, 0]", "position = [0, -1.5, 0]"), "inside the horizon"),
     ("custom metric unknown key", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "custom"\n'
      'line_element = "-dt**2 + dx**2 + dy**2 + dz**2"\nhorizon = "2"'), "did you mean 'horizon_radius'"),
 ]  # fmt: skip

@@ -69,7 +69,7 @@ def test_the_checker_refuses_upward_and_sideways_top_floor_includes():
 
 # ------------------------------------------------------------------------------------------ Python
 PACKAGE = Path(__file__).resolve().parents[1] / "warpviz"
-PY_LAYERS = ["_native", "spacetime", "tracing", "scene", "render", "export", "viewer", "web", "__init__", "cli"]
+PY_LAYERS = ["_native", "spacetime", "tracing", "scene", "render", "animate", "export", "viewer", "web", "__init__", "cli"]
 PY_RANK = {name: i for i, name in enumerate(PY_LAYERS)}
 # the floor: the core, file formats, limits and the table of render options
 PY_RANK["_core"] = PY_RANK["io"] = PY_RANK["limits"] = PY_RANK["options"] = PY_RANK["_native"]

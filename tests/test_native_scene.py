@@ -47,10 +47,11 @@ def test_optional_keys_get_the_schemas_defaults():
     def check(table: dict, schema: dict):
         for key, default in schema.items():
             assert key in table, key
-            if default is not REQUIRED and key not in ("spots", "environment", "environment_other"):
+            if default is not REQUIRED and key not in ("spots", "environment", "environment_other", "observer"):
                 assert _equal(table[key], list(map(float, default)) if isinstance(default, tuple) else default), key
 
     check(full["camera"], SCHEMA["camera"])
+    check(full["camera"]["observer"], SCHEMA["observer"])  # None: the local observer, every key filled in
     for t in full["textures"]:
         check(t, SCHEMA["textures"][t["type"]])
     for m in full["materials"]:

@@ -40,7 +40,7 @@ def check_native(native: dict) -> None:
     metric = native["metric"]
     assert metric["name"] in registry and len(metric["params"]) == len(registry[metric["name"]])
     cam = native["camera"]
-    assert set(cam) == {"position", "look_at", "up", "fov", "width", "height", "sheet"}
+    assert set(cam) == {"position", "look_at", "up", "fov", "width", "height", "sheet", "observer", "shift"}
     for k in ("position", "look_at", "up"):
         _check_vec(cam[k])
     assert 0 < cam["fov"] < 180 and cam["sheet"] in (1, -1)

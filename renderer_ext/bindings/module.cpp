@@ -252,7 +252,8 @@ nb::dict render(nb::dict scene, nb::dict options) {
   wv::Scene sc;
   wv::scene_from_dict(scene, sc);
   {
-    const std::string why = st->origin_problem(&sc.camera.position.x, sc.camera.sheet);
+    const bool moving = sc.camera.observer.kind != wv::ObserverKind::kLocal;
+    const std::string why = st->origin_problem(&sc.camera.position.x, sc.camera.sheet, moving);
     if (!why.empty()) throw std::invalid_argument("camera.position " + why);
   }
   wv::RenderOptions o;
@@ -516,18 +517,20 @@ NB_MODULE(_core, m) {
         "Trace rays; see warpviz.trace for the documented interface.");
   m.def(
       "origin_problems",
-      [](const std::string& metric, const std::vector<double>& params, F64In origins, I32In sheets) -> nb::object {
+      [](const std::string& metric, const std::vector<double>& params, F64In origins, I32In sheets,
+         bool moving) -> nb::object {
         auto st = wv::make_spacetime(metric, params);
         const size_t n = origins.ndim() == 2 ? origins.shape(0) : 0;
         check_rows(origins, n, "origins");
         for (size_t i = 0; i < n; ++i) {
-          const std::string why = st->origin_problem(origins.data() + 3 * i, sheets.data()[i]);
+          const std::string why = st->origin_problem(origins.data() + 3 * i, sheets.data()[i], moving);
           if (!why.empty()) return nb::make_tuple(i, why);
         }
         return nb::none();
       },
-      "metric"_a, "params"_a, "origins"_a, "sheets"_a,
-      "First origin a ray cannot start from, as (row, reason), or None.");
+      "metric"_a, "params"_a, "origins"_a, "sheets"_a, "moving"_a = false,
+      "First origin a ray cannot start from, as (row, reason), or None; moving: for a camera held by a moving "
+      "observer, which may be inside a horizon (spacetime/observers.h).");
   m.def(
       "camera_rays",
       [](const std::string& metric, const std::vector<double>& params, nb::dict camera, F64In pixels) {
@@ -542,6 +545,59 @@ NB_MODULE(_core, m) {
       "metric"_a, "params"_a, "camera"_a, "pixels"_a,
       "The render camera's frame (rows forward, right, up) and its rays' directions through continuous pixel "
       "coordinates (n, 2), in the local observer's frame at the camera (integrators/camera.h).");
+  m.def(
+      "observer",
+      [](const std::string& metric, const std::vector<double>& params, nb::dict camera) {
+        wv::Camera cam;
+        wv::camera_from_dict(camera, cam);
+        double x[4];
+        wv::ObserverFrame f;
+        const std::string why =
+            wv::make_spacetime(metric, params)->observer_at(&cam.position.x, cam.sheet, cam.observer, x, f);
+        if (!why.empty()) throw std::invalid_argument(why);
+        std::vector<double> xv(x, x + 4), u(f.u, f.u + 4), e(&f.e[0][0], &f.e[0][0] + 12), g(&f.g[0][0], &f.g[0][0] + 16);
+        return nb::make_tuple(to_numpy(std::move(xv), {4}), to_numpy(std::move(u), {4}), to_numpy(std::move(e), {3, 4}),
+                              to_numpy(std::move(g), {4, 4}));
+      },
+      "metric"_a, "params"_a, "camera"_a,
+      "The camera observer at its position (spacetime/observers.h): chart point x (4,), 4-velocity u (4,), "
+      "spatial triad e (3, 4) and covariant metric g (4, 4); ValueError saying why no such observer can be there.");
+  m.def(
+      "worldline",
+      [](const std::string& metric, const std::vector<double>& params, nb::dict camera, F64In taus,
+         double stop_radius, double tol) {
+        wv::Camera cam;
+        wv::camera_from_dict(camera, cam);
+        auto st = wv::make_spacetime(metric, params);
+        double x[4];
+        wv::ObserverFrame f;
+        const std::string why = st->observer_at(&cam.position.x, cam.sheet, cam.observer, x, f);
+        if (!why.empty()) throw std::invalid_argument(why);
+        const int n = int(taus.ndim() == 1 ? taus.shape(0) : 0);
+        std::vector<wv::WorldlinePoint> pts(n);
+        int k;
+        {
+          nb::gil_scoped_release unlocked;
+          k = st->worldline(x, f.u, cam.sheet, taus.data(), n, stop_radius, tol, pts.data());
+        }
+        std::vector<double> xs(4 * k), us(4 * k), pos(3 * k);
+        std::vector<int32_t> sheets(k);
+        for (int i = 0; i < k; ++i) {
+          for (int a = 0; a < 4; ++a) {
+            xs[4 * i + a] = pts[i].x[a];
+            us[4 * i + a] = pts[i].u[a];
+          }
+          for (int a = 0; a < 3; ++a) pos[3 * i + a] = pts[i].pos[a];
+          sheets[i] = pts[i].sheet;
+        }
+        const size_t K = size_t(k);
+        return nb::make_tuple(to_numpy(std::move(pos), {K, 3}), to_numpy(std::move(sheets), {K}),
+                              to_numpy(std::move(xs), {K, 4}), to_numpy(std::move(us), {K, 4}));
+      },
+      "metric"_a, "params"_a, "camera"_a, "taus"_a, "stop_radius"_a, "tol"_a,
+      "The worldline of the camera's observer, a timelike geodesic (spacetime/worldline.h), at proper times taus "
+      "(n,): user positions (k, 3), sheets (k,), chart points (k, 4) and 4-velocities (k, 4), k <= n where it "
+      "stopped (below stop_radius, or the chart's end).");
   nb::module_ testing = m.def_submodule("_testing", "Test hooks (not public API)");
   wv::bindings::bind_testing(testing);
   m.def("build_info", []() {

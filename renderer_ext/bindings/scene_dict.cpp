@@ -153,6 +153,28 @@ void camera_from_dict(const nb::dict& c, Camera& cam, const std::string& w) {
   cam.width = integer(c, "width", w);
   cam.height = integer(c, "height", w);
   cam.sheet = integer(c, "sheet", w);
+  const nb::dict o = table(c, "observer", w);
+  const std::string ow = w + ".observer";
+  static const char* kinds[] = {"local", "static", "zamo", "orbit", "free_fall", "moving", "given"};
+  const std::string kind = text(o, "kind", ow);
+  int k = 0;
+  while (k < 7 && kind != kinds[k]) ++k;
+  if (k == 7) throw std::invalid_argument("native scene: " + ow + ".kind: unknown observer '" + kind + "'");
+  cam.observer.kind = ObserverKind(k);
+  const V3 v = vec3(o, "velocity", ow), a = vec3(o, "axis", ow);
+  for (int i = 0; i < 3; ++i) {
+    cam.observer.velocity[i] = v[i];
+    cam.observer.axis[i] = a[i];
+  }
+  cam.observer.fall_from = number(o, "fall_from", ow);
+  const auto u = typed<std::vector<double>>(o, "u", ow, "a list of 4 numbers");
+  if (u.size() != 4) throw std::invalid_argument("native scene: " + ow + ".u must have 4 numbers");
+  for (int i = 0; i < 4; ++i) cam.observer.u[i] = u[i];
+  const std::string shift = text(c, "shift", w);
+  if (shift == "none") cam.shift = kShiftNone;
+  else if (shift == "beaming") cam.shift = kShiftBeaming;
+  else if (shift == "colour") cam.shift = kShiftColour;
+  else throw std::invalid_argument("native scene: " + w + ".shift: unknown shift '" + shift + "'");
   if (cam.width < 1 || cam.height < 1) throw std::invalid_argument("native scene: " + w + ".width/height must be >= 1");
 }
 

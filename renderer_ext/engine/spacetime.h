@@ -15,6 +15,8 @@
 #include "spacetime/frame.h"
 #include "spacetime/landmarks.h"
 #include "spacetime/metric.h"
+#include "spacetime/observers.h"
+#include "spacetime/worldline.h"
 
 namespace wv {
 
@@ -28,8 +30,9 @@ class Spacetime {
   virtual void rhs(const double y[8], double dy[8]) const = 0;
   virtual void rhs_autodiff(const double y[8], double dy[8]) const = 0;
   virtual void invariants(const double y[8], double* out) const = 0;
-  // Empty if a ray may start at pos on sheet, otherwise why not.
-  virtual std::string origin_problem(const double pos[3], int sheet) const = 0;
+  // Empty if a ray may start at pos on sheet, otherwise why not; `moving`: for an observer other than the
+  // local static one (spacetime/observers.h), which may be inside a horizon.
+  virtual std::string origin_problem(const double pos[3], int sheet, bool moving = false) const = 0;
   // Initial state for a ray starting at pos (user frame) along unit direction dir of the local observer.
   virtual bool initial_state(const double pos[3], const double dir[3], int sheet, double y[8]) const = 0;
   // The render camera c (integrators/camera.h): its viewing frame in the local observer's frame at its
@@ -39,6 +42,14 @@ class Spacetime {
   // The local observer's frame at chart point x (closed form where the metric has one, or the generic
   // construction); false where there is none.
   virtual bool observer_frame(const double x[4], bool generic, ObserverFrame& f) const = 0;
+  // The frame of observer `s` at user-frame point pos on `sheet` (spacetime/observers.h), with the chart
+  // point into x; "" or why no such observer can be there.
+  virtual std::string observer_at(const double pos[3], int sheet, const ObserverSpec& s, double x[4],
+                                  ObserverFrame& f) const = 0;
+  // The observer's worldline from chart point x0 with 4-velocity u0 on `sheet`, at proper times taus[0..n)
+  // (spacetime/worldline.h); returns how many points it reached before stop_radius or the chart's end.
+  virtual int worldline(const double x0[4], const double u0[4], int sheet, const double* taus, int n,
+                        double stop_radius, double tol, WorldlinePoint* out) const = 0;
   // A static spherical metric's lens-map functions (spacetime/lens_map.h); false for the others.
   virtual bool spherical_lens(SphericalLens& out) const = 0;
 };
@@ -57,8 +68,8 @@ class SpacetimeImpl final : public Spacetime {
   void rhs(const double y[8], double dy[8]) const override { m_.rhs(y, dy); }
   void rhs_autodiff(const double y[8], double dy[8]) const override { wv::rhs_autodiff(m_, y, dy); }
   void invariants(const double y[8], double* out) const override { m_.invariants(y, out); }
-  std::string origin_problem(const double pos[3], int sheet) const override {
-    return wv::origin_problem(m_, pos, sheet);
+  std::string origin_problem(const double pos[3], int sheet, bool moving = false) const override {
+    return wv::origin_problem(m_, pos, sheet, moving);
   }
   bool initial_state(const double pos[3], const double dir[3], int sheet, double y[8]) const override {
     return photon_state(m_, pos, dir, sheet, y);
@@ -75,6 +86,15 @@ class SpacetimeImpl final : public Spacetime {
   }
   bool observer_frame(const double x[4], bool generic, ObserverFrame& f) const override {
     return generic ? observer_frame_generic(m_, x, f) : wv::observer_frame(m_, x, f);
+  }
+  std::string observer_at(const double pos[3], int sheet, const ObserverSpec& s, double x[4],
+                          ObserverFrame& f) const override {
+    if (!m_.user_to_chart(pos, sheet, x)) return "the point lies outside the metric's chart";
+    return observer_frame_of(m_, x, s, f);
+  }
+  int worldline(const double x0[4], const double u0[4], int sheet, const double* taus, int n, double stop_radius,
+                double tol, WorldlinePoint* out) const override {
+    return wv::worldline(m_, x0, u0, sheet, taus, n, stop_radius, tol, out);
   }
   bool spherical_lens(SphericalLens& out) const override {
     out = m_.spherical_lens();

@@ -1,10 +1,12 @@
-// The camera of a render: its viewing frame as measured by the observer at the camera (forward, right and
+// The camera of a render: its viewing frame as measured by the observer holding the camera (the local static
+// observer, or a moving one: spacetime/observers.h) (forward, right and
 // up in that observer's local frame), the start frame all camera rays share, and the direction of a
 // pixel's camera sample (jittered, offset by the pixel filter) (warpviz/scene/camera.py reaches it through the binding camera_rays).
 #pragma once
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "core/vec3.h"
 #include "film/pixel_filter.h"
@@ -12,6 +14,7 @@
 #include "scene/light.h"
 #include "scene/scene.h"
 #include "spacetime/frame.h"
+#include "spacetime/observers.h"
 
 namespace wv {
 
@@ -23,9 +26,15 @@ class CameraRays {
     double x4[4];
     if (!m.user_to_chart(&c.position.x, c.sheet, x4))
       throw std::invalid_argument("camera position lies outside the metric's chart");
-    if (m.absorbed(x4)) throw std::invalid_argument("camera position lies inside the horizon");
+    moving_ = c.observer.kind != ObserverKind::kLocal;
+    if (!moving_ && m.absorbed(x4)) throw std::invalid_argument("camera position lies inside the horizon");
     ObserverFrame f;
-    if (!observer_frame(m, x4, f)) throw std::invalid_argument("camera position has no static or ZAMO observer");
+    if (moving_) {
+      const std::string why = observer_frame_of(m, x4, c.observer, f);
+      if (!why.empty()) throw std::invalid_argument("camera observer: " + why);
+    } else if (!observer_frame(m, x4, f)) {
+      throw std::invalid_argument("camera position has no static or ZAMO observer");
+    }
     const LinearMap L = geo.local_map(x4, f);
     forward_ = normalize(L(c.look_at - c.position));
     V3 up = L(c.up);
@@ -33,8 +42,38 @@ class CameraRays {
     if (!(length(right_) > 0.5)) throw std::invalid_argument("camera up is parallel to the viewing direction");
     up_ = cross(right_, forward_);
     tan_half_ = std::tan(0.5 * c.fov * M_PI / 180.0);
-    start_ = geo.start_frame(c.position, c.sheet);
+    if (moving_) {  // every camera ray starts in the moving observer's frame
+      start_.pos = c.position;
+      start_.sheet = c.sheet;
+      start_.ok = true;
+      for (int i = 0; i < 4; ++i) start_.x4[i] = x4[i];
+      start_.f = f;
+    } else {
+      start_ = geo.start_frame(c.position, c.sheet);
+    }
+    frame_ = f;
   }
+
+  // Direction to trace the camera ray that the camera sees along local direction d, and the energy of its
+  // light there relative to the camera's. Curved space starts the ray in the camera observer's own frame
+  // (start()), so both are unchanged; flat space traces straight lines in the rest frame of the static
+  // observer, so a moving camera's direction is aberrated to it: the light arriving along -d has 4-momentum
+  // u - d_j e_j (unit energy for the camera), whose time component is its energy for the static observer.
+  V3 start_direction(V3 d, double& energy) const {
+    energy = 1.0;
+    if constexpr (M::kFlat) {
+      if (moving_) {
+        double p[4];
+        for (int mu = 0; mu < 4; ++mu) p[mu] = frame_.u[mu] - d.x * frame_.e[0][mu] - d.y * frame_.e[1][mu] - d.z * frame_.e[2][mu];
+        energy = p[0];
+        return normalize(V3{-p[1], -p[2], -p[3]});
+      }
+    }
+    return d;
+  }
+
+  // Whether the camera's observer is not the local static observer.
+  bool moving() const { return moving_; }
 
   // Chart point and observer frame at the camera, where every camera ray starts.
   const StartFrames::Entry& start() const { return start_; }
@@ -70,6 +109,8 @@ class CameraRays {
  private:
   const Camera& c_;
   StartFrames::Entry start_;
+  ObserverFrame frame_;  // the camera observer's frame at its position
+  bool moving_ = false;
   V3 forward_, right_, up_;
   double tan_half_ = 1.0;
 };

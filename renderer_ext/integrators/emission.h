@@ -26,8 +26,14 @@ class Emission {
     const Material& m = sc_.materials[sc_.prims[e.prim].material];
     if (!m.beaming || max_component(L) <= 0.0) return L;
     const double g = shift(e, m);
-    if (m.colour_shift) return shifted_colour(L, g);
-    return L * (g * g * g * g);  // I_nu / nu^3 is invariant: bolometric radiance goes as g^4
+    return shifted(L, g, m.colour_shift);
+  }
+
+  // Radiance L seen shifted by g: bolometric (L g^4: I_nu / nu^3 is invariant) or, with `colour`, the
+  // spectrum shifted channel by channel as well.
+  static V3 shifted(V3 L, double g, bool colour) {
+    if (colour) return shifted_colour(L, g);
+    return L * (g * g * g * g);
   }
 
   // Radiance seen in each channel when the source's spectrum is shifted by g: I_nu / nu^3 is invariant,
@@ -52,10 +58,9 @@ class Emission {
   // g = nu_received / nu_emitted for light from the emitter at a hit to the segment's start observer:
   // 1 / (p . u_emitter) with the backward momentum normalised to unit energy at the start.
   double shift(const SegmentEnd& e, const Material& m) const {
-    if constexpr (M::kFlat) {
-      (void)e;
+    if constexpr (M::kFlat) {  // static emitters; only a moving camera's segments have energy != 1
       (void)m;
-      return 1.0;
+      return e.energy > 0.0 ? 1.0 / e.energy : 0.0;
     } else {
       double E = e.energy;  // static emitter
       if (m.keplerian) {

@@ -189,9 +189,11 @@ class PathTracer {
     ps.px = px;
     ps.py = py;
     ps.s = s;
-    double filter_weight;
-    V3 d = camera_direction(px, py, pix, s, rng, filter_weight);
+    double filter_weight, energy0;
+    V3 d = camera_.start_direction(camera_direction(px, py, pix, s, rng, filter_weight), energy0);
     V3 x = cam.position;
+    double g_camera = 1.0;  // nu_camera / nu_seen along the camera ray
+    V3 L_own_shift{0, 0, 0};  // what the camera ray sees of emitters that shift their own light
     int sheet = cam.sheet, skip = -1;
     // The denoiser's features: albedo and normal at the first non-specular hit (no random numbers drawn).
     out.albedo = {0, 0, 0};
@@ -203,8 +205,15 @@ class PathTracer {
       SegmentEnd e;
       co_await segments_.segment(x, sheet, d, skip, track, st, frames, sched, e);
       ps.close(e, sheet, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
-      if (bounce == 0 && s == 0) first_hit_aovs(film, film.index(px, py), e);
+      if (bounce == 0) {
+        e.energy *= energy0;
+        g_camera = e.energy > 0.0 ? 1.0 / e.energy : 0.0;
+        if (s == 0) first_hit_aovs(film, film.index(px, py), e);
+      }
       const V3 Le = emission_.emission(e);
+      if (bounce == 0 && cam.shift != kShiftNone && e.status == kHit &&
+          sc_.materials[sc_.prims[e.prim].material].beaming)
+        L_own_shift = ps.beta * Le * ps.mis;
       if (ps.lens_prev) {
         const double pl = e.status == kHit ? lens_.pdf(ps.lens_v, ps.lens_w, e.prim, e.pos) : 0.0;
         ps.mis = ps.lens_pb / (ps.lens_pb + pl);
@@ -251,6 +260,7 @@ class PathTracer {
       skip = e.prim;
     }
     V3 L = ps.L;
+    if (cam.shift != kShiftNone) L = Emission<M>::shifted(L - L_own_shift, g_camera, cam.shift == kShiftColour) + L_own_shift;
     if (!finite(L)) {
       L = {0, 0, 0};
       ps.error = true;
@@ -270,8 +280,10 @@ class PathTracer {
       frames.n = frames.next = 1;
     }
     SegmentEnd e;
-    co_await segments_.segment(sc_.camera.position, sc_.camera.sheet, camera_.direction_at(x, y), -1, nullptr, st,
-                               frames, sched, e);
+    double energy0;
+    co_await segments_.segment(sc_.camera.position, sc_.camera.sheet,
+                               camera_.start_direction(camera_.direction_at(x, y), energy0), -1, nullptr, st, frames,
+                               sched, e);
     hit = e.status == kHit && sc_.materials[sc_.prims[e.prim].material].emits() ? 1 : 0;
   }
 

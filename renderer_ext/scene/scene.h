@@ -11,16 +11,25 @@
 #include "scene/material.h"
 #include "scene/shapes.h"
 #include "scene/texture.h"
+#include "spacetime/observers.h"
 
 namespace wv {
 
 // Set in full from the native scene dict (bindings/scene_dict.cpp); its defaults live in Python
 // (warpviz/scene/native.py), not here.
+// What a moving camera does with the shift g = nu_camera / nu_seen of the light it receives (the first
+// surface's local observer, or the sky at infinity, to the camera): nothing (radiance as the local observer
+// there sees it), beaming (bolometric radiance times g^4) or the colour shift as well (emission.h).
+// Emitters that shift their own light (beaming materials) are shifted once, by their own rule.
+enum CameraShift : int { kShiftNone = 0, kShiftBeaming = 1, kShiftColour = 2 };
+
 struct Camera {
   V3 position{0, 0, 0}, look_at{0, 0, 0}, up{0, 0, 0};
   double fov = 0.0;  // vertical, degrees
   int width = 0, height = 0;
   int sheet = 0;
+  ObserverSpec observer;  // who holds the camera (spacetime/observers.h); kLocal: the local static observer
+  int shift = kShiftNone;
 };
 
 class Scene {

@@ -48,16 +48,16 @@ struct TraceResult {
 
 // Empty if a ray of metric m may start at user-frame point pos on sheet, otherwise why not.
 template <class M>
-std::string origin_problem(const M& m, const double pos[3], int sheet) {
+std::string origin_problem(const M& m, const double pos[3], int sheet, bool moving = false) {
   double x[4];
   if (!m.user_to_chart(pos, sheet, x)) return m.outside_chart_message(pos);
-  if (m.absorbed(x)) return "lies inside the horizon (r = " + std::to_string(m.radius(x)) +
+  if (!moving && m.absorbed(x)) return "lies inside the horizon (r = " + std::to_string(m.radius(x)) +
                              " <= r+ = " + std::to_string(m.horizon_radius()) + ")";
   if (m.escape_limit() > 0.0 && !(m.radius(x) < m.escape_limit()))
     return "lies beyond the metric's escape radius (r = " + std::to_string(m.radius(x)) +
            " >= " + std::to_string(m.escape_limit()) + ", inside which its chart holds)";
   ObserverFrame f;
-  if (!wv::observer_frame(m, x, f)) return "has no static or zero-angular-momentum observer there";
+  if (!moving && !wv::observer_frame(m, x, f)) return "has no static or zero-angular-momentum observer there";
   return {};
 }
 

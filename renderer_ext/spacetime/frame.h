@@ -82,10 +82,11 @@ inline bool kerr_schild_static_frame(double f, const double l[3], ObserverFrame&
   return true;
 }
 
-// Returns false where no static observer or ZAMO exists (inside a horizon) or the metric is singular.
-template <class M>
-bool observer_frame_generic(const M& m, const double x[4], ObserverFrame& f) {
-  if (!observer_velocity(m, x, f.g, f.u)) return false;
+// The spatial triad f.e of the observer f.u in the metric f.g: the Lowdin (symmetric) orthonormalisation of
+// the coordinate axes d/dx, d/dy, d/dz projected orthogonal to f.u. For the local observer it is its frame;
+// for any other 4-velocity (a moving camera, spacetime/observers.h) it is, in flat space, the static
+// frame's axes boosted to that velocity. False where the projected axes are degenerate.
+inline bool lowdin_triad(ObserverFrame& f) {
   const auto& g = f.g;
   double ul[4];  // u lowered: g(d_mu, u)
   for (int a = 0; a < 4; ++a) {
@@ -107,6 +108,13 @@ bool observer_frame_generic(const M& m, const double x[4], ObserverFrame& f) {
       f.e[j][mu] = acc;
     }
   return true;
+}
+
+// Returns false where no static observer or ZAMO exists (inside a horizon) or the metric is singular.
+template <class M>
+bool observer_frame_generic(const M& m, const double x[4], ObserverFrame& f) {
+  if (!observer_velocity(m, x, f.g, f.u)) return false;
+  return lowdin_triad(f);
 }
 
 template <class M>

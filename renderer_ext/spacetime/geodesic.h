@@ -212,6 +212,13 @@ class GeodesicRay {
         if (m.radius(y) >= target_) return finish_escaped(y);
       }
       r_ = m.radius(y);
+      // Traced back from inside a horizon (a falling camera), every ray moves outward: light that fell in
+      // crosses the horizon within a few horizon radii of coordinate time; the rest creeps up to it from
+      // below as t -> -infinity (it came from the hole's own past: none in a hole formed by collapse) and
+      // ends as "horizon" once it has spent 20 horizon radii of coordinate time there.
+      stuck_t_ = -INFINITY;
+      horizon_r_ = m.horizon_radius();
+      if (o.backward && r_ < horizon_r_) stuck_t_ = y[0] - 20.0 * horizon_r_;
       // Adaptive steppers start at the largest step allowed and let the error control cut it down: a
       // rejected first attempt is cheaper than the 3-4 steps of growing from a small guess (16 % fewer
       // steps in a curved room, whose segments are short).
@@ -298,7 +305,14 @@ class GeodesicRay {
     }
     const double r_new = m.radius(ynew);
     // Horizon: locate the crossing r = r_h on the dense output so the path ends on the horizon.
-    if (r_new < r_h_) {
+    // Traced back from below the capture radius (a falling camera), a ray is lost as soon as it moves
+    // inward there: inside the photon sphere light moving inward never turns.
+    if (r_new < r_h_ && r_ < r_h_ && r_new < r_) {
+      const bool ok = monitor_at(ynew);
+      record(ynew, lam_ + h, h);
+      return finish(ok ? kHorizon : kInvariantViolation, ynew);
+    }
+    if (r_new < r_h_ && r_ >= r_h_) {
       auto dr = [&](double t) {
         st.dense(y, ynew, h, t, ys);
         return m.radius(ys) - r_h_;
@@ -353,6 +367,7 @@ class GeodesicRay {
     st.accept();
     for (int i = 0; i < 8; ++i) y[i] = ynew[i];
     if (!ok) return finish(kInvariantViolation, y);
+    if (y[0] < stuck_t_ && r_new < horizon_r_) return finish(kHorizon, y);
     r_ = r_new;
     if (m.normalize_chart(y, sheet_)) {
       st.init(m, y);
@@ -495,6 +510,7 @@ class GeodesicRay {
   bool relative_[K];  // X0 is not negligible: the reported drift is relative to |X0|
   double h_scale_ = 0.0, lam_ = 0.0, energy0_ = 0.0;
   double r_h_ = 0.0, kappa_ = 0.1, target_ = 0.0, r_ = 0.0;
+  double stuck_t_ = -INFINITY, horizon_r_ = 0.0;  // rays traced back from inside the horizon (start())
   double esc_ = 0.0;      // the escape radius: the trace's, or the metric's escape_limit if smaller
   bool flat_far_ = true;  // asymptotically flat: an escaped ray integrates on to the Born tail's radius
   bool escaped_ = false;  // crossed the escape sphere; still integrating for the direction

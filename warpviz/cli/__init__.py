@@ -1,6 +1,6 @@
 """The ``warpviz`` command line: render, trace, view and check scenes.
 
-Commands: ``render``, ``trace``, ``view``, ``serve``, ``validate``, ``scenes``, ``bench``, ``doctor``; ``warpviz COMMAND
+Commands: ``render``, ``animate``, ``trace``, ``view``, ``serve``, ``validate``, ``scenes``, ``bench``, ``doctor``; ``warpviz COMMAND
 --help`` describes each. A scene is given as a path to a TOML file or as the name of a shipped scene
 (``fig07``; see :mod:`warpviz.scene.catalog`).
 
@@ -19,7 +19,7 @@ the typer application they register with.
 from __future__ import annotations
 
 # each command module registers its command with the app when imported
-from warpviz.cli import bench, common, doctor, render, scenes, serve, trace, validate, view  # noqa: F401
+from warpviz.cli import animate, bench, common, doctor, render, scenes, serve, trace, validate, view  # noqa: F401
 from warpviz.cli.app import app
 from warpviz.cli.common import (
     EXIT_BAD_INPUT,

@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from warpviz._native import core
-from warpviz.scene.native import native_camera
+from warpviz.scene.native import native_camera, native_observer
 
 __all__ = ["camera_basis", "flat_camera_ray", "pinhole_directions"]
 
@@ -38,7 +38,7 @@ __all__ = ["camera_basis", "flat_camera_ray", "pinhole_directions"]
 def _camera_rays(camera: Mapping[str, Any], xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The core's flat-space camera: frame rows (forward, right, up) and directions through xy (K, 2).
     Flat space has one sheet: a camera on a wormhole's other sheet is drawn in that sheet's own frame."""
-    flat = dict(native_camera(camera), sheet=1)
+    flat = dict(native_camera(camera), sheet=1, observer=native_observer(None))  # the frustum as its observer sees it
     return core.camera_rays("minkowski", [], flat, np.ascontiguousarray(xy, dtype=np.float64))
 
 

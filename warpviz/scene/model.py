@@ -135,6 +135,9 @@ class Scene:
                 environment = other
             other = None
             camera["sheet"] = 1
+            # flat space keeps a camera's velocity; the observers that gravity defines are at rest there
+            if (camera.get("observer") or {}).get("kind") not in (None, "moving"):
+                camera["observer"] = None
         else:
             metric = {"name": self.metric.name, "params": list(self.metric.param_values)}
         return native_scene({

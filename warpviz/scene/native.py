@@ -68,7 +68,10 @@ SCHEMA: dict[str, Any] = {
               "environment": None, "environment_other": None},
     "metric": {"name": REQUIRED, "params": ()},
     "camera": {"position": REQUIRED, "look_at": REQUIRED, "up": (0.0, 0.0, 1.0), "fov": 40.0, "width": REQUIRED,
-               "height": REQUIRED, "sheet": 1},
+               "height": REQUIRED, "sheet": 1, "observer": None, "shift": "none"},
+    # who holds the camera (docs/observers.md); None: the local static observer (the ZAMO in an ergoregion)
+    "observer": {"kind": "local", "velocity": (0.0, 0.0, 0.0), "axis": (0.0, 0.0, 1.0), "fall_from": 0.0,
+                 "u": (0.0, 0.0, 0.0, 0.0)},
     "textures": {
         "constant": {"color": REQUIRED},
         "checker": {"color_a": REQUIRED, "color_b": REQUIRED, "scale": (8.0, 8.0)},
@@ -281,6 +284,43 @@ def native_camera(camera: Mapping[str, Any], where: str = "camera") -> dict:
     out["sheet"] = _sheet(c, where, table=t)
     if not _length(np.subtract(out["look_at"], out["position"]).tolist()) > 0:
         _fail(f"{where}.look_at", f"must differ from {where}.position")
+    out["observer"] = native_observer(_get(c, "observer", where, None), f"{where}.observer")
+    shift = _get(c, "shift", where, _default(t, "shift"))
+    if shift not in CAMERA_SHIFTS:
+        _fail(f"{where}.shift", f"must be one of {', '.join(map(repr, CAMERA_SHIFTS))}, got {shift!r}")
+    out["shift"] = shift
+    return out
+
+
+#: The observers a camera may be held by (spacetime/observers.h; docs/observers.md).
+OBSERVER_KINDS = ("local", "static", "zamo", "orbit", "free_fall", "moving", "given")
+#: What a moving camera does with the Doppler and gravitational shift of what it sees.
+CAMERA_SHIFTS = ("none", "beaming", "colour")
+
+
+def native_observer(observer: Mapping[str, Any] | None, where: str = "camera.observer") -> dict:
+    """A native camera observer, checked, with every key: ``kind`` (:data:`OBSERVER_KINDS`), ``velocity``
+    (relative to the local observer, units of c), ``axis`` (of an orbit), ``fall_from`` (radius of rest of a
+    free fall, 0: infinity) and ``u`` (a chart 4-velocity, ``kind = "given"``). ``None``: the local observer.
+    Whether such an observer can be at the camera is the core's to say (``core.observer``)."""
+    t = "observer"
+    o = _table({} if observer is None else observer, where)
+    for key in o:
+        if key not in SCHEMA[t]:
+            _fail(f"{where}.{key}", f"is not a key of an observer (keys: {', '.join(SCHEMA[t])})")
+    kind = _get(o, "kind", where, _default(t, "kind"))
+    if kind not in OBSERVER_KINDS:
+        _fail(f"{where}.kind", f"must be one of {', '.join(map(repr, OBSERVER_KINDS))}, got {kind!r}")
+    out = {"kind": kind, "velocity": _vec3(o, "velocity", where, table=t), "axis": _vec3(o, "axis", where, table=t),
+           "fall_from": _number(o, "fall_from", where, table=t)}  # fmt: skip
+    if out["fall_from"] < 0:
+        _fail(f"{where}.fall_from", "must be >= 0 (0: from rest at infinity)")
+    u = _get(o, "u", where, _default(t, "u"))
+    if isinstance(u, np.ndarray):
+        u = u.tolist()
+    if not isinstance(u, (list, tuple)) or len(u) != 4 or not all(_is_real(x) and math.isfinite(float(x)) for x in u):
+        _fail(f"{where}.u", "must be a list of 4 finite numbers")
+    out["u"] = [float(x) for x in u]
     return out
 
 
@@ -466,7 +506,8 @@ def native_scene(scene: Mapping[str, Any]) -> dict:
     out["environment_other"] = out["environment"] if other is None else _environment(other, "environment_other")
     cam = out["camera"]
     problem = core.origin_problems(name, params, np.array([cam["position"]], dtype=np.float64),
-                                   np.array([cam["sheet"]], dtype=np.int32))  # fmt: skip
+                                   np.array([cam["sheet"]], dtype=np.int32),
+                                   cam["observer"]["kind"] != "local")  # a moving camera may be inside a horizon
     if problem is not None:
         _fail("camera.position", problem[1])
     return out

@@ -17,7 +17,7 @@ import numpy as np
 from warpviz.limits import EXPOSURE_RANGE, MAX_IMAGE_SIDE, TONEMAP_NAMES, tolerance_problem
 from warpviz.options import DEFAULT_OPTIONS, RENDER_OPTIONS
 from warpviz._native import core, registered_metrics
-from warpviz.scene.native import SCHEMA
+from warpviz.scene.native import CAMERA_SHIFTS, OBSERVER_KINDS, SCHEMA, native_camera
 from warpviz.scene.reader import _describe, _Reader, did_you_mean, key_name
 from warpviz.spacetime import Metric, metric_from_dict, metric_names
 
@@ -90,7 +90,7 @@ def _metric(r: _Reader, tbl: Any) -> Metric:
 
 def _camera(r: _Reader, tbl: Any, metric: Metric) -> dict:
     path = ("camera",)
-    r.table(path, tbl, ("position", "look_at", "up", "fov", "sheet"), required=("position",))
+    r.table(path, tbl, ("position", "look_at", "up", "fov", "sheet", *CAMERA_OBSERVER_KEYS), required=("position",))
     native = SCHEMA["camera"]  # the defaults of keys the native camera has; look_at is the file's own
     cam = {
         "position": r.vec3(tbl, path, "position"),
@@ -105,11 +105,62 @@ def _camera(r: _Reader, tbl: Any, metric: Metric) -> dict:
     up = np.asarray(cam["up"]) / np.linalg.norm(cam["up"])
     if np.linalg.norm(np.cross(forward / np.linalg.norm(forward), up)) < 1e-6:
         raise r.error(path + ("up",), "camera.up must not be parallel to the viewing direction (look_at - position)")
+    observer = _observer(r, tbl, path)
     problem = core.origin_problems(metric.name, metric.param_values, np.array([cam["position"]], dtype=np.float64),
-                                   np.array([cam["sheet"]], dtype=np.int32))  # fmt: skip
+                                   np.array([cam["sheet"]], dtype=np.int32), observer is not None)  # fmt: skip
     if problem is not None:
         raise r.error(path + ("position",), f"camera.position {cam['position']} {problem[1]}")
+    if observer is not None:
+        cam["observer"] = observer
+        check = native_camera(dict(cam, width=1, height=1))
+        try:
+            core.observer(metric.name, metric.param_values, check)
+        except ValueError as exc:
+            raise r.error(path + ("observer",) if "observer" in tbl else path + ("velocity",),
+                          f"camera.observer = {observer['kind']!r} at {cam['position']}: {exc}") from None
+    shift = r.choice(tbl, path, "shift", list(CAMERA_SHIFTS), SCHEMA["camera"]["shift"])
+    if shift != SCHEMA["camera"]["shift"]:
+        cam["shift"] = shift
     return cam
+
+
+#: The ``[camera]`` keys that say who holds the camera and what it does with the shift of the light it sees
+#: (docs/observers.md).
+CAMERA_OBSERVER_KEYS = ("observer", "velocity", "axis", "fall_from", "shift")
+#: The observers a scene file may name (the native ``given``, a 4-velocity in chart components, is for
+#: camera paths computed in Python).
+SCENE_OBSERVERS = tuple(k for k in OBSERVER_KINDS if k != "given")
+
+
+def _observer(r: _Reader, tbl: dict, path: tuple) -> dict | None:
+    """The native observer of a ``[camera]`` table, or None for the local static observer. ``velocity``
+    alone means ``observer = "moving"``; ``axis`` belongs to an orbit and ``fall_from`` to a free fall."""
+    default = "moving" if "velocity" in tbl else "local"
+    kind = r.choice(tbl, path, "observer", list(SCENE_OBSERVERS), default)
+    needs = {"velocity": "moving", "axis": "orbit", "fall_from": "free_fall"}
+    for key, owner in needs.items():
+        if key in tbl and kind != owner:
+            raise r.error(path + (key,), f"camera.{key} belongs to observer = {owner!r}, not {kind!r}")
+    if kind == "local":
+        return None
+    out = dict(SCHEMA["observer"], kind=kind)
+    if kind == "moving":
+        out["velocity"] = r.vec3(tbl, path, "velocity")
+        speed = math.sqrt(sum(v * v for v in out["velocity"]))
+        if not speed < 1.0:
+            raise r.error(path + ("velocity",), f"camera.velocity has speed {speed:g} c: a camera moves slower than "
+                          "light (|velocity| < 1, in units of c)")  # fmt: skip
+    if kind == "orbit":
+        out["axis"] = r.vec3(tbl, path, "axis", list(SCHEMA["observer"]["axis"]), nonzero=True)
+    if kind == "free_fall":
+        value = r.get(tbl, path, "fall_from", "infinity")
+        if value == "infinity":
+            out["fall_from"] = 0.0
+        elif isinstance(value, str):
+            raise r.error(path + ("fall_from",), f'camera.fall_from must be a radius > 0 or "infinity", got {value!r}')
+        else:
+            out["fall_from"] = r.real(tbl, path, "fall_from", lo=0.0)
+    return out
 
 
 def wormhole_hint() -> str:
