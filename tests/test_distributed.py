@@ -196,3 +196,18 @@ def test_the_command_line_refuses_bad_cluster_flags(tmp_path, extra, says):
     assert res.exit_code == 2, res.output
     assert says in " ".join(res.output.split())
     assert not (tmp_path / "x.png").exists()
+
+
+def test_a_film_on_the_cluster_is_the_local_film(cluster2, tmp_path):
+    """warpviz animate --workers: each frame's tiles are tasks; a falling camera's frames (a moving observer's
+    4-velocity in the scene) are the local ones bit for bit."""
+    from warpviz.animate import camera_path, render_film
+
+    sc = wv.scene.load_scene("fig07")
+    cams = camera_path(sc, "fall", 2, position=[0.0, -45.0, 0.0], duration=20.0)
+    _, client = cluster2
+    render_film(sc, cams, tmp_path / "local", spp=2, width=24, height=18, threads=2)
+    render_film(sc, cams, tmp_path / "dask", spp=2, width=24, height=18, client=client, tile=8)
+    for k in range(2):
+        a, b = (wv.Image.open(tmp_path / d / f"frame_{k:05d}.exr") for d in ("local", "dask"))
+        np.testing.assert_array_equal(a.rgb, b.rgb)

@@ -66,6 +66,21 @@ def test_wormhole_flight_comes_out_on_the_other_sheet():
     assert cams[0]["look_at"][1] > cams[0]["position"][1] and cams[-1]["look_at"][1] < cams[-1]["position"][1]
 
 
+def test_speed_launches_a_flight_and_position_moves_the_start():
+    sc = _scene({"position": [0.0, -6.0, 0.0], "look_at": [0, 0, 0]}, metric={"name": "ellis", "throat": 2.0})
+    cams = camera_path(sc, "fall", 5, speed=0.5, position=[0.0, -8.0, 0.0])
+    assert cams[0]["position"] == [0.0, -8.0, 0.0] and cams[-1]["sheet"] == -1
+    # no gravity in the massless Ellis wormhole: the speed relative to the static observers stays 0.5
+    from warpviz.spacetime.observers import observer
+
+    ellis = wv.EllisWormhole(throat=2.0)
+    for c in cams[1:]:
+        moving = observer(ellis, c["position"], "given", u=c["observer"]["u"], sheet=c["sheet"])
+        assert moving.speed_relative_to(observer(ellis, c["position"], sheet=c["sheet"])) == pytest.approx(0.5, rel=1e-9)
+    with pytest.raises(ValueError, match="use it with path 'fall'"):
+        camera_path(sc, "orbit", 3, speed=0.5)
+
+
 def test_path_errors_name_the_reason(tmp_path):
     with pytest.raises(ValueError, match="no circular orbit"):
         camera_path(_scene({"position": [2.5, 0.0, 0.0]}), "orbit", 4)  # inside the photon sphere

@@ -200,3 +200,21 @@ def test_rays_traced_back_from_inside_the_horizon_end_cleanly():
                 fractions.append(float((status == 0).mean()))
     assert abs(fractions[0] - fractions[1]) <= 2 / 41**2
     assert fractions[0] > fractions[2] > fractions[3]  # the sky shrinks as the camera falls in
+
+
+def test_image_panel_shadow_mark_of_a_falling_camera_is_the_aberrated_circle():
+    """The teaching view's exact shadow edge (viewer/image_marks.py) for a camera falling from infinity at
+    r = 12: cos a' = (cos a + v) / (1 + v cos a), drawn where the render puts it."""
+    from warpviz.viewer.image_marks import edge_circle
+
+    r = 12.0
+    static = math.asin(3 * math.sqrt(3) * math.sqrt(1 - 2 / r) / r)
+    v = math.sqrt(2 / r)
+    expect = math.acos((math.cos(static) + v) / (1 + v * math.cos(static)))
+    cam = {"position": [0.0, -r, 0.0], "look_at": [0.0, 0.0, 0.0], "fov": 60.0, "width": 100, "height": 100,
+           "observer": {"kind": "free_fall"}}  # fmt: skip
+    points, label = edge_circle(SCHW, cam, 100, 100)
+    assert label == f"shadow radius {math.degrees(expect):.3g}° (exact, aberrated)"
+    radius_px = np.linalg.norm(points - 50.0, axis=1)
+    t = math.tan(math.radians(30.0))
+    np.testing.assert_allclose(radius_px, 50.0 * math.tan(expect) / t, rtol=1e-9)  # centred: radial motion

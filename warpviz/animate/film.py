@@ -64,7 +64,7 @@ def render_film(scene: Scene, cameras: list[dict], output: str | Path, *, fps: f
                 time_limit: float | None = None, width: int | None = None, height: int | None = None,
                 seed: int | None = None, denoise: bool = False, threads: int = 0, exposure: float | None = None,
                 tonemap: str | None = None, on_frame: Callable[[int, int, bool], None] | None = None,
-                frame_progress=None) -> Path:  # fmt: skip
+                frame_progress=None, client=None, tile: int | None = None) -> Path:  # fmt: skip
     """Render one frame per camera and write the film.
 
     Parameters
@@ -94,6 +94,9 @@ def render_film(scene: Scene, cameras: list[dict], output: str | Path, *, fps: f
         ``on_frame(done, total, rendered)`` after each frame (``rendered`` False for a frame already on disk).
     frame_progress : callable, optional
         The renderer's ``progress`` callback for the samples of the frame being rendered.
+    client : distributed.Client, optional
+        Render each frame's tiles as tasks on this Dask cluster (``warpviz.render``'s ``client``; the frame
+        is the local one bit for bit), ``tile`` their side.
 
     Returns
     -------
@@ -139,6 +142,8 @@ def render_film(scene: Scene, cameras: list[dict], output: str | Path, *, fps: f
                 on_frame(k + 1, n, False)
             continue
         extra = {"time_limit": time_limit} if time_limit is not None else {}
+        if client is not None:
+            extra.update(client=client, tile=tile)
         img = render_image(_camera_scene(scene, cam), spp=spp, width=w, height=h, seed=frame_seed(base_seed, k),
                            threads=threads, denoise=denoise, progress=frame_progress, **extra)  # fmt: skip
         img.metadata["frame"] = k

@@ -32,7 +32,7 @@ WORLDLINE_TOL = 1e-12
 
 
 def camera_path(scene: Scene, path: str | Path, frames: int, *, duration: float | None = None,
-                look: str = "target", to=None) -> list[dict]:  # fmt: skip
+                look: str = "target", to=None, position=None, speed: float | None = None) -> list[dict]:  # fmt: skip
     """One scene camera per frame along ``path``.
 
     Parameters
@@ -55,6 +55,12 @@ def camera_path(scene: Scene, path: str | Path, frames: int, *, duration: float 
         Where the camera looks: the scene's ``look_at`` throughout, or along its motion.
     to : array_like, shape (3,), optional
         ``dolly``: where the camera ends.
+    speed : float, optional
+        ``fall``: launch the camera towards its target at this speed (units of c, relative to the local
+        observer) instead of from its observer's own motion: a flight, e.g. through a wormhole.
+    position : array_like, shape (3,), optional
+        Where the path starts, instead of the scene camera's position (its target, up, field of view and
+        observer kept).
 
     Returns
     -------
@@ -72,6 +78,20 @@ def camera_path(scene: Scene, path: str | Path, frames: int, *, duration: float 
     if look not in ("target", "ahead"):
         raise ValueError(f"look must be 'target' or 'ahead', got {look!r}")
     cam = copy.deepcopy(scene.camera)
+    if position is not None:
+        start = np.asarray(position, dtype=float)
+        if start.shape != (3,) or not np.all(np.isfinite(start)):
+            raise ValueError(f"position must be 3 finite numbers, got {position!r}")
+        if np.allclose(start, cam["look_at"]):
+            raise ValueError(f"position {start.tolist()} is the camera's look_at")
+        cam["position"] = start.tolist()
+    if speed is not None:
+        if str(path) != "fall":
+            raise ValueError("speed launches a fall (a flight): use it with path 'fall'")
+        if not (0.0 <= speed < 1.0):
+            raise ValueError(f"speed must be in [0, 1) (units of c), got {speed!r}")
+        aim = np.subtract(cam["look_at"], cam["position"])
+        cam["observer"] = {"kind": "moving", "velocity": (speed * aim / np.linalg.norm(aim)).tolist()}
     if str(path) == "orbit":
         return _orbit(scene, cam, frames, look)
     if str(path) == "fall":

@@ -10,7 +10,7 @@ from typing import Optional
 import typer
 from rich.text import Text
 
-from warpviz.cli import flags
+from warpviz.cli import common, flags
 from warpviz.cli.app import app
 from warpviz.cli.common import EXIT_BAD_INPUT, _checked, _fail, _guard, _look, _stop_code, _stop_word, _stoppable, err
 from warpviz.limits import MAX_SPP, duration_seconds
@@ -43,12 +43,22 @@ def animate(
     ),
     look: str = typer.Option("target", "--look", help="target (the scene's look_at) or ahead (along the motion)."),
     to: Optional[str] = typer.Option(None, "--to", help="dolly: the end point X,Y,Z (default half-way to look_at)."),
+    speed: Optional[float] = typer.Option(
+        None, "--speed", min=0.0, max=0.999999, help="fall: launch the camera towards look_at at this speed (units of "
+        "c): a flight, e.g. through a wormhole."
+    ),
+    position: Optional[str] = typer.Option(
+        None, "--position", help="Start the path at X,Y,Z instead of the scene camera's position (e.g. an orbit's radius)."
+    ),
     size: Optional[str] = flags.SIZE,
     threads: int = flags.THREADS,
     seed: Optional[int] = flags.SEED,
     exposure: Optional[float] = flags.EXPOSURE,
     tonemap: Optional[str] = flags.TONEMAP,
     denoise: bool = typer.Option(False, "--denoise", help="Denoise each frame (pip install 'warpviz[denoise]')."),
+    workers: Optional[int] = flags.WORKERS,
+    cluster: Optional[str] = flags.CLUSTER,
+    tile: Optional[int] = flags.TILE,
     quiet: bool = flags.QUIET,
 ) -> None:
     """Render a film of a scene along a camera path.
@@ -61,19 +71,14 @@ def animate(
 
     with _guard(), _stoppable():
         seconds = _checked("--time", duration_seconds, time_budget)
-        end = None
-        if to is not None:
-            try:
-                end = [float(v) for v in to.split(",")]
-                assert len(end) == 3
-            except (ValueError, AssertionError):
-                _fail(f"--to must be three numbers X,Y,Z, got {to!r}", EXIT_BAD_INPUT)
+        end, start = _point("--to", to), _point("--position", position)
         if output.suffix and output.suffix.lower() not in FILM_SUFFIXES:
             _fail(f"-o {str(output)!r}: a film is {', '.join(FILM_SUFFIXES)} or a folder (no suffix)", EXIT_BAD_INPUT)
         sc = load_scene(scene)
         look_png = _look(sc, exposure=exposure, tonemap=tonemap)
         try:
-            cameras = camera_path(sc, path, frames, duration=duration, look=look, to=end)
+            cameras = camera_path(sc, path, frames, duration=duration, look=look, to=end, position=start,
+                                  speed=speed)
         except ValueError as exc:
             _fail(f"--path {path}: {exc}", EXIT_BAD_INPUT)
         width, height = size if size is not None else (None, None)
@@ -83,7 +88,8 @@ def animate(
         columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TextColumn("frames"),
                    TimeElapsedColumn(), TimeRemainingColumn())  # fmt: skip
         done = {"rendered": 0, "kept": 0}
-        with Progress(*columns, console=err, disable=quiet, transient=False) as bar:
+        with common._cluster(workers, cluster, tile) as client, \
+                Progress(*columns, console=err, disable=quiet, transient=False) as bar:
             task = bar.add_task(output.name, total=len(cameras))
 
             def on_frame(k: int, n: int, rendered: bool) -> None:
@@ -92,7 +98,8 @@ def animate(
 
             try:
                 render_film(sc, cameras, output, fps=fps, spp=spp, time_limit=seconds, width=width, height=height,
-                            seed=seed, denoise=denoise, threads=threads, on_frame=on_frame, **look_png)  # fmt: skip
+                            seed=seed, denoise=denoise, threads=threads, on_frame=on_frame, client=client, tile=tile,
+                            **look_png)  # fmt: skip
             except FilmMismatch as exc:
                 _fail(str(exc), EXIT_BAD_INPUT)
             except KeyboardInterrupt:
@@ -104,3 +111,16 @@ def animate(
         kept = f", {done['kept']} already on disk" if done["kept"] else ""
         err.print(f"wrote {output} ({len(cameras)} frames, {done['rendered']} rendered{kept}, "
                   f"{time.perf_counter() - t0:.1f} s)")  # fmt: skip
+
+
+def _point(flag: str, text: Optional[str]) -> Optional[list[float]]:
+    """X,Y,Z as three finite numbers, or None; anything else is exit 2."""
+    if text is None:
+        return None
+    try:
+        point = [float(v) for v in text.split(",")]
+    except ValueError:
+        point = []
+    if len(point) != 3 or not all(abs(v) < float("inf") for v in point):
+        _fail(f"{flag} must be three numbers X,Y,Z, got {text!r}", EXIT_BAD_INPUT)
+    return point

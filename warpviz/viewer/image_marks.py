@@ -110,7 +110,7 @@ def edge_circle(metric, camera: Mapping[str, Any], width: int, height: int,
         (Kerr, Reissner–Nordström, flat space) or the camera is inside the photon sphere.
     """
     from warpviz._native import core
-    from warpviz.scene.native import native_camera
+    from warpviz.scene.native import native_camera, native_observer
 
     if metric is None:
         return None
@@ -121,7 +121,8 @@ def edge_circle(metric, camera: Mapping[str, Any], width: int, height: int,
     cam = dict(native_camera(camera), width=int(width), height=int(height))
     pixels = np.zeros((0, 2))
     frame, _ = core.camera_rays(metric.name, metric.param_values, cam, pixels)
-    towards = dict(cam, look_at=[0.0, 0.0, 0.0])
+    static = dict(cam, observer=native_observer(None))  # the circle is exact in the static observer's sky
+    towards = dict(static, look_at=[0.0, 0.0, 0.0])
     for up in (cam["up"], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]):
         try:
             centre = core.camera_rays(metric.name, metric.param_values, dict(towards, up=up), pixels)[0][0]
@@ -135,6 +136,10 @@ def edge_circle(metric, camera: Mapping[str, Any], width: int, height: int,
     phi = np.linspace(0.0, 2.0 * math.pi, n + 1)
     d = (math.cos(alpha) * centre[None, :]
          + math.sin(alpha) * (np.cos(phi)[:, None] * e1[None, :] + np.sin(phi)[:, None] * e2[None, :]))  # fmt: skip
+    moving = cam["observer"]["kind"] != "local"
+    if moving:  # the camera's observer sees the circle aberrated (still a circle: the map is conformal)
+        d = _aberrated(metric, static, cam, d)
+        alpha = 0.5 * float(np.max(np.arccos(np.clip(d @ d.T, -1.0, 1.0))))
     depth = d @ forward
     front = depth > 1e-6
     t = _tan_half(cam)
@@ -142,4 +147,19 @@ def edge_circle(metric, camera: Mapping[str, Any], width: int, height: int,
     sx = (d @ right)[front] / depth[front]
     sy = (d @ up)[front] / depth[front]
     points = np.column_stack([(sx / (t * aspect) + 1.0) * width / 2.0, (1.0 - sy / t) * height / 2.0])
-    return points, f"{name} {math.degrees(alpha):.3g}° (exact)"
+    return points, f"{name} {math.degrees(alpha):.3g}° (exact{', aberrated' if moving else ''})"
+
+
+def _aberrated(metric, static: dict, cam: dict, dirs: np.ndarray) -> np.ndarray:
+    """Look directions ``dirs`` (K, 3) of the static observer at the camera as the camera's own observer
+    sees them: the light arriving along -n has 4-momentum u_s - n^j e_j, seen along minus its direction in
+    the moving frame."""
+    from warpviz._native import core
+
+    _, us, es, g = core.observer(metric.name, metric.param_values, static)
+    _, um, em, _ = core.observer(metric.name, metric.param_values, cam)
+    p = us[None, :] - dirs @ es  # (K, 4) contravariant, unit energy for the static observer
+    pl = p @ g  # lowered
+    energy = -(pl @ um)
+    k = (pl @ em.T) / energy[:, None]  # propagation direction in the moving frame
+    return -k / np.linalg.norm(k, axis=1)[:, None]
