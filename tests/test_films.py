@@ -145,3 +145,9 @@ def test_animate_cli_writes_a_gif_and_an_mp4(tmp_path):
     assert res.exit_code == 2 and "even width" in res.output
     res = runner.invoke(app, ["animate", str(scene), "--path", "spiral", "-o", str(tmp_path / "h.gif"), "-q"])
     assert res.exit_code == 2 and not (tmp_path / "h_frames").exists()
+    # a file warpviz did not write is not replaced without --force; its own film is (resumed: nothing to render)
+    (tmp_path / "mine.gif").write_bytes(b"precious")
+    res = runner.invoke(app, ["animate", str(scene), "-o", str(tmp_path / "mine.gif"), "-q"])
+    assert res.exit_code == 2 and "--force" in res.output and (tmp_path / "mine.gif").read_bytes() == b"precious"
+    res = runner.invoke(app, ["animate", str(scene), "--path", "fall", "--frames", "3", "-o", str(tmp_path / "f.gif")])
+    assert res.exit_code == 0 and "3 already on disk" in res.output

@@ -514,3 +514,18 @@ def test_example_through_the_wormhole(tmp_path, capsys):
     last_sheet = np.array([fan.point_data["sheet"][fan.get_cell(i).point_ids[-1]] for i in range(fan.n_cells)])
     np.testing.assert_array_equal(last_sheet, np.where(b < 1.0, -1, 1))  # only b < b0 crosses
     assert "rays crossed" in capsys.readouterr().out
+
+
+def test_a_falling_camera_is_shown_with_its_aberrated_shadow_mark(tmp_path):
+    """A render by a camera falling from infinity opens in the teaching view (the 3-D panel, the flat ray of
+    a pixel, the image panel's exact shadow edge, aberrated: docs/observers.md)."""
+    from warpviz.scene import scene_from_dict
+
+    scene = scene_from_dict({"version": 1, "metric": {"name": "schwarzschild", "mass": 1.0},
+                             "camera": {"position": [0.0, -12.0, 0.0], "observer": "free_fall"},
+                             "environment": {"color": [0.4, 0.4, 0.5]}, "render": {"width": 32, "height": 24}},
+                            base_dir=".")  # fmt: skip
+    falling = wv.render(scene, spp=1, record_pixels=[[16, 12], [2, 2]])
+    out = wv.view(falling, off_screen=True, screenshot=tmp_path / "v.png", window_size=(300, 160), show_flat=True,
+                  pixels=[[2, 2]])  # fmt: skip
+    assert pv.read(out).dimensions[:2] == (300, 160)

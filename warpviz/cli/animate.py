@@ -59,6 +59,7 @@ def animate(
     workers: Optional[int] = flags.WORKERS,
     cluster: Optional[str] = flags.CLUSTER,
     tile: Optional[int] = flags.TILE,
+    force: bool = flags.FORCE,
     quiet: bool = flags.QUIET,
 ) -> None:
     """Render a film of a scene along a camera path.
@@ -74,6 +75,9 @@ def animate(
         end, start = _point("--to", to), _point("--position", position)
         if output.suffix and output.suffix.lower() not in FILM_SUFFIXES:
             _fail(f"-o {str(output)!r}: a film is {', '.join(FILM_SUFFIXES)} or a folder (no suffix)", EXIT_BAD_INPUT)
+        if output.suffix and output.exists() and not (frames_folder(output) / "film.json").exists() and not force:
+            _fail(f"-o {str(output)!r} exists and is not a film warpviz animate wrote (no {frames_folder(output).name}/"
+                  "film.json beside it); --force replaces it", EXIT_BAD_INPUT)  # fmt: skip
         sc = load_scene(scene)
         look_png = _look(sc, exposure=exposure, tonemap=tonemap)
         try:
