@@ -44,6 +44,10 @@ EXPRESSION_METRICS = {
         definitions={"f": "1 - 2*M/r + Q**2/r**2"}, parameters={"M": 1.0, "Q": 0.8},
         horizon_radius="M + sqrt(M**2 - Q**2)", inner_horizon_radius="M - sqrt(M**2 - Q**2)",
         photon_sphere_radius="(3*M + sqrt(9*M**2 - 8*Q**2))/2", mass="M"),
+    # the Ellis wormhole in its proper radial distance: two sheets, the chart's inversion between them
+    "ellis_expr": dict(
+        line_element="-dt**2 + dl**2 + (b**2 + l**2)*dOmega**2", coordinates="wormhole", parameters={"b": 1.5},
+        throat_radius="b"),
 }  # fmt: skip
 
 

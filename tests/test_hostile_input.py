@@ -98,6 +98,9 @@ BAD_SCENES = [
      "faster than light"),
     ("fall from below the camera", SCENE.replace("fov = 40", 'fov = 40\nobserver = "free_fall"\nfall_from = 10.0'), "above it"),
     ("static camera inside the horizon", SCENE.replace("position = [0, -20, 0]", "position = [0, -1.5, 0]"), "inside the horizon"),
+    ("wormhole different on its two sheets", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "custom"\n'
+     'coordinates = "wormhole"\nline_element = "-dt**2 + dl**2 + (4 + l**2 + l**3)*dOmega**2"\nthroat_radius = "2"'),
+     "the areal radius differs between l and -l"),
     ("custom metric unknown key", SCENE.replace('name = "schwarzschild"\nmass = 1.0', 'name = "custom"\n'
      'line_element = "-dt**2 + dx**2 + dy**2 + dz**2"\nhorizon = "2"'), "did you mean 'horizon_radius'"),
 ]  # fmt: skip

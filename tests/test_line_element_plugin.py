@@ -149,6 +149,12 @@ def test_a_foreign_or_mismatched_library_is_refused_by_name(tmp_path):
     (dict(line_element="-dt**2 + dx**2 + dy**2 + dz**2", parameters={"M": 1.0}, event_horizon="M"), "event_horizon"),
     (dict(line_element="-dt**2 + dx**2 + dy**2 + dz**2", name="1st"), "name"),
     (dict(line_element="-dt**2 + dx**2 + dy**2 + dz**2 + __import__('os')"), "line_element"),
+    # wormholes: a throat radius to set the chart, the same metric on both sheets, the throat where it says
+    (dict(line_element="-dt**2 + dl**2 + (1 + l**2)*dOmega**2", coordinates="wormhole"), "throat_radius"),
+    (dict(line_element="-dt**2 + dl**2 + (1 + l**2 + l**3/9)*dOmega**2", coordinates="wormhole",
+          throat_radius="1"), "line_element"),
+    (dict(line_element="-dt**2 + dl**2 + (4 + l**2)*dOmega**2", coordinates="wormhole", throat_radius="1"),
+     "line_element"),
 ])  # fmt: skip
 def test_bad_definitions_are_refused_before_any_compilation(kwargs, where, monkeypatch, tmp_path):
     monkeypatch.setenv("CXX", str(tmp_path / "no-such-compiler"))  # nothing reaches the compiler
@@ -281,3 +287,40 @@ def test_a_cache_folder_that_cannot_be_written_says_how_to_choose_another(tmp_pa
     monkeypatch.setenv("WARPVIZ_CACHE_DIR", str(blocker))
     with pytest.raises(plugin_mod.PluginBuildError, match="set WARPVIZ_CACHE_DIR to a folder you can write"):
         plugin_mod.build_parts("// nothing\n", ["facts"])
+
+
+def test_the_ellis_wormhole_from_its_line_element_traces_as_the_built_in_one_on_both_sheets():
+    """coordinates = "wormhole": ds^2 = -dt^2 + dl^2 + (b^2 + l^2) dOmega^2 in the same chart as the Ellis file
+    (l = (rho - b^2/rho)/2, the inversion between the sheets): the same rays, through the throat and past it."""
+    m = expression_metric("ellis_expr")
+    assert m.sheets == 2 and m.landmarks["throat"] == 1.5
+    ellis = wv.EllisWormhole(throat=1.5)
+    dirs = np.array([[1.0, 0.03 * k, 0.01] for k in range(-25, 26)])
+    for sheet in (1, -1):
+        a = wv.trace(m, [-8.0, 0.5, 0.0], dirs, tol=1e-12, stepper="dop853", sheets=[sheet] * len(dirs))
+        b = wv.trace(ellis, [-8.0, 0.5, 0.0], dirs, tol=1e-12, stepper="dop853", sheets=[sheet] * len(dirs))
+        assert set(a.final_sheets) == {1, -1}  # some rays pass the throat, some do not
+        np.testing.assert_array_equal(a.final_sheets, b.final_sheets)
+        np.testing.assert_allclose(a.final_directions, b.final_directions, atol=1e-11)
+        np.testing.assert_allclose(a.final_positions, b.final_positions, rtol=1e-11)
+    with pytest.raises(ValueError, match="inside the wormhole throat"):
+        wv.trace(m, [0.5, 0.0, 0.0], [1.0, 0.0, 0.0])
+
+
+def test_the_interstellar_wormhole_scene_has_the_window_its_comment_states():
+    """line_element_interstellar_wormhole: with g_tt = -1 every ray below the throat radius passes, so from the
+    camera at areal radius 15.13 the window is asin(8 / 15.13) = 31.9 degrees whatever R(l) (the scene's
+    header comment); just inside it a ray reaches the other sheet, just outside it does not."""
+    sc = wv.scene.load_scene("line_element_interstellar_wormhole")
+    assert sc.metric.sheets == 2 and sc.metric.landmarks["throat"] == 8.0
+    position = np.array(sc.camera["position"])
+    radius = float(np.linalg.norm(position))
+    window = np.arcsin(8.0 / radius)
+    assert np.degrees(window) == pytest.approx(31.91, abs=0.01)
+    inward = -position / radius
+    side = np.cross(inward, [0.0, 0.0, 1.0])
+    side /= np.linalg.norm(side)
+    angles = window + np.radians([-0.2, 0.2])
+    dirs = np.cos(angles)[:, None] * inward + np.sin(angles)[:, None] * side
+    rays = wv.trace(sc.metric, position, dirs, escape_radius=500)
+    assert rays.final_sheets.tolist() == [-1, 1]

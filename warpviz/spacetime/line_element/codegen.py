@@ -336,6 +336,66 @@ def _landmark_lines(le: LineElement, landmarks: Mapping[str, sympy.Basic]) -> li
     return lines
 
 
+def _wormhole_lines(le: LineElement) -> list[str]:
+    """A wormhole in its chart (``wormhole`` coordinates, as the Ellis file): rho = |x| > c is our sheet, rho < c
+    the other, l = (rho - c²/rho)/2; the inversion x -> c² x / rho² exchanges them (an isometry: the metric is
+    even in l, checked by LineElement.wormhole_problem), and the user sees each sheet with |x| the areal
+    radius. The areal radius (the square root of the dOmega**2 coefficient) is the metric's radius."""
+    names = {c: f"x[{i}]" for i, c in enumerate(le.coords)}
+    names.update({p: f"p_[{i}]" for i, p in enumerate(le.params)})
+    r2 = le.areal_radius2
+    for sym, value, _, _ in reversed(le.definitions):
+        r2 = r2.subs(sym, value)
+    area = _Printer(names).doprint(r2)
+    c = _Printer({p: f"p_[{i}]" for i, p in enumerate(le.params)}).doprint(le.chart_scale)
+    return [
+        f"  double chart_scale() const {{ return {c}; }}",
+        f"  double radius(const double* x) const {{ return std::sqrt({area}); }}",
+        "  bool normalize_chart(double* y, int& sheet) const {",
+        "    const double c2 = chart_scale() * chart_scale(), rho2 = y[1] * y[1] + y[2] * y[2] + y[3] * y[3];",
+        "    if (rho2 >= c2) return false;",
+        "    const double xp = (y[1] * y[5] + y[2] * y[6] + y[3] * y[7]) / rho2, k = rho2 / c2;",
+        "    for (int i = 1; i < 4; ++i) {",
+        "      y[4 + i] = k * (y[4 + i] - 2.0 * xp * y[i]);",
+        "      y[i] *= c2 / rho2;",
+        "    }",
+        "    sheet = -sheet;",
+        "    return true;",
+        "  }",
+        "  int chart_to_user(const double* x, int sheet, double pos[3]) const {",
+        "    const double rho2 = x[1] * x[1] + x[2] * x[2] + x[3] * x[3], s = radius(x) / std::sqrt(rho2);",
+        "    for (int i = 0; i < 3; ++i) pos[i] = x[1 + i] * s;",
+        "    return rho2 >= chart_scale() * chart_scale() ? sheet : -sheet;",
+        "  }",
+        "  // rho >= c with radius = |pos|, by bisection (the areal radius grows away from the throat)",
+        "  bool user_to_chart(const double pos[3], int /*sheet*/, double x[4]) const {",
+        "    const double R = std::sqrt(pos[0] * pos[0] + pos[1] * pos[1] + pos[2] * pos[2]), c = chart_scale();",
+        "    double at[4] = {0.0, c, 0.0, 0.0};",
+        "    if (!(R >= radius(at) * (1.0 - 1e-12))) return false;",
+        "    double lo = c, hi = 2.0 * c;",
+        "    for (int i = 0; i < 200; ++i) {",
+        "      at[1] = hi;",
+        "      if (radius(at) >= R) break;",
+        "      lo = hi;",
+        "      hi *= 2.0;",
+        "    }",
+        "    for (int i = 0; i < 200 && hi - lo > 1e-15 * hi; ++i) {",
+        "      at[1] = 0.5 * (lo + hi);",
+        "      (radius(at) < R ? lo : hi) = at[1];",
+        "    }",
+        "    const double rho = 0.5 * (lo + hi);",
+        "    x[0] = 0.0;",
+        "    for (int i = 0; i < 3; ++i) x[1 + i] = R > 0.0 ? pos[i] * rho / R : 0.0;",
+        "    return true;",
+        "  }",
+        "  std::string outside_chart_message(const double* pos) const {",
+        "    return \"lies inside the wormhole throat (|x| = \" +",
+        "           std::to_string(std::sqrt(pos[0] * pos[0] + pos[1] * pos[1] + pos[2] * pos[2])) +",
+        "           \" < throat = \" + std::to_string(chart_scale()) + \"; positions are areal radii)\";",
+        "  }",
+    ]
+
+
 def _relation_lines(le: LineElement, landmarks: Mapping[str, sympy.Basic]) -> list[str]:
     """The parameters' relation: every landmark a real radius >= 0 (sqrt(M**2 - Q**2) needs |Q| <= M), so
     the core refuses other values by name, as it refuses |Q| > M for the built-in metric."""
@@ -390,6 +450,9 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
     if not name.replace("_", "").isalnum() or not name[:1].isalpha():
         raise ValueError(f"a metric name is letters, digits and _, starting with a letter, got {name!r}")
     cls = _class_name(name)
+    wormhole = le.coordinates == "wormhole"
+    if wormhole:  # the throat sets the length scale unless a mass is given
+        landmarks = {"mass": le.chart_scale, **(landmarks or {})}
     sym = le.symmetries(values)
     invariants = ["H"] + (["E"] if sym["stationary"] else []) + (["Lz"] if sym["axisymmetric"] else [])
     specs = ",\n      ".join(
@@ -430,6 +493,7 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         param_block.rstrip("\n"),
         *_relation_lines(le, landmarks or {}),
         *([] if crosses_horizon else ["  static constexpr bool kChartCrossesHorizon = false;"]),
+        *(["  static constexpr int kSheets = 2;", "  static constexpr bool kUserIsChart = false;"] if wormhole else []),
         f"  static constexpr int kNumInvariants = {len(invariants)};",
         f"  static constexpr const char* kInvariantNames[kNumInvariants] = {{{names}}};",
         f"  double p_[{max(1, len(le.params))}] = {{}};",
@@ -457,7 +521,8 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         *_rhs_body(le, values, split, structure),
         "  }",
         "",
-        "  double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }",
+        *(_wormhole_lines(le) if wormhole else
+          ["  double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }"]),
         *_landmark_lines(le, landmarks or {}),
         "",
         "  void conserved(const double y[8], const HamiltonianParts& /*hp*/, double out[], double mag[]) const {",

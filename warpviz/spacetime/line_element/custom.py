@@ -148,9 +148,13 @@ def load_definition(definition: Mapping[str, Any], *, progress: Callable[[str], 
         source = cached.read_text()
     else:
         values = definition["parameters"]
+        wormhole = definition["coordinates"] == "wormhole"
         le = LineElement(definition["line_element"], coordinates=definition["coordinates"],
-                         parameters=list(values), definitions=definition["definitions"])  # fmt: skip
+                         parameters=list(values), definitions=definition["definitions"],
+                         throat=definition["landmarks"].get("throat_radius") if wormhole else None)  # fmt: skip
         exprs = _landmark_exprs(le, definition["landmarks"], values)
+        if wormhole and (why := le.wormhole_problem(values)):
+            raise LineElementError("line_element", why)
         source = metric_source(le, name=key, values=values, landmarks=exprs,
                                crosses_horizon=_crosses_horizon(le, exprs.get("horizon_radius"), values),
                                summary=f"{definition['name']}: {' '.join(definition['line_element'].split())}"[:200])  # fmt: skip

@@ -41,8 +41,10 @@ _FUNC_NAMES = set(FUNCTIONS)
 
 __all__ = ["COORDINATES", "LineElement", "LineElementError"]
 
-#: The coordinate systems a line element may be written in, and their coordinate names.
-COORDINATES = {"cartesian": ("t", "x", "y", "z"), "spherical": ("t", "r", "theta", "phi")}
+#: The coordinate systems a line element may be written in, and their coordinate names. ``wormhole``: a
+#: static spherical wormhole in its proper radial distance l (−∞ < l < ∞, the two sheets at l > 0 and l < 0).
+COORDINATES = {"cartesian": ("t", "x", "y", "z"), "spherical": ("t", "r", "theta", "phi"),
+               "wormhole": ("t", "l", "theta", "phi")}  # fmt: skip
 
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,31}$")
 
@@ -97,15 +99,15 @@ class LineElement:
     """
 
     def __init__(self, line_element: str, *, coordinates: str = "cartesian", parameters: Sequence[str] = (),
-                 definitions: Mapping[str, str] | None = None):  # fmt: skip
+                 definitions: Mapping[str, str] | None = None, throat: str | None = None):  # fmt: skip
         if coordinates not in COORDINATES:
             raise LineElementError("coordinates", f"must be one of {', '.join(COORDINATES)}, got {coordinates!r}")
         self.coordinates = coordinates
         t, x, y, z = self.coords = sympy.symbols("t x y z", real=True)
         rho = sympy.sqrt(x**2 + y**2)
         r = sympy.sqrt(x**2 + y**2 + z**2)
-        reserved = {"pi", "dOmega", *COORDINATES["cartesian"], *COORDINATES["spherical"]}
-        reserved |= {"d" + c for c in (*COORDINATES["cartesian"], *COORDINATES["spherical"])}
+        every = {*COORDINATES["cartesian"], *COORDINATES["spherical"], *COORDINATES[coordinates]}
+        reserved = {"pi", "dOmega", *every} | {"d" + c for c in every}
         names: dict[str, Any] = {}
         for p in parameters:
             if not isinstance(p, str) or not _NAME.match(p) or keyword.iskeyword(p) or p in reserved or p in _FUNC_NAMES:
@@ -119,6 +121,9 @@ class LineElement:
         self.definitions: list[tuple] = []
         # the chart's symbols for the names an expression may use
         self._theta_phi = None
+        #: ``wormhole`` coordinates: the chart's scale c (the throat's areal radius), as an expression of the
+        #: parameters; None otherwise.
+        self.chart_scale = None
         if coordinates == "cartesian":
             names.update({"t": t, "x": x, "y": y, "z": z, "r": self._define("r", r)})
             diffs = sympy.symbols("dt dx dy dz")
@@ -127,17 +132,30 @@ class LineElement:
         else:
             th, ph = sympy.symbols("theta phi", real=True)
             self._theta_phi = (th, ph)
-            names.update({"t": t, "r": r, "theta": th, "phi": ph})
-            d = sympy.symbols("dt dr dtheta dphi dOmega")
-            names.update(dict(zip(("dt", "dr", "dtheta", "dphi", "dOmega"), d)))
+            radial = "r" if coordinates == "spherical" else "l"
+            d = sympy.symbols(f"dt d{radial} dtheta dphi dOmega")
+            names.update(dict(zip(("dt", f"d{radial}", "dtheta", "dphi", "dOmega"), d)))
             dX = sympy.symbols("dx dy dz")
             diffs = (d[0], *dX)
             dr = (x * dX[0] + y * dX[1] + z * dX[2]) / r
-            to_cartesian = {d[0]: d[0], d[1]: dr,
+            if coordinates == "spherical":
+                names.update({"t": t, "r": r, "theta": th, "phi": ph})
+                d_radial = dr
+            else:  # l = (rho - c^2 / rho) / 2 in the chart radius rho = |x|: both sheets, regular at the throat
+                if throat is None:
+                    raise LineElementError("throat_radius", "coordinates = 'wormhole' needs throat_radius, the areal "
+                                           "radius at l = 0 (it sets the chart: l = (rho - b^2/rho)/2)")  # fmt: skip
+                c = self._parse(throat, names, "throat_radius")
+                self.chart_scale = c
+                names.update({"t": t, "l": (r - c**2 / r) / 2, "theta": th, "phi": ph})
+                d_radial = (1 + c**2 / r**2) / 2 * dr
+            to_cartesian = {d[0]: d[0], d[1]: d_radial,
                             d[2]: (z * (x * dX[0] + y * dX[1]) / rho - rho * dX[2]) / r**2,
                             d[3]: (x * dX[1] - y * dX[0]) / rho**2}  # fmt: skip
             self._domega2 = (dX[0] ** 2 + dX[1] ** 2 + dX[2] ** 2 - dr**2) / r**2
             self._omega = d[4]
+        diff_names = [v for k, v in names.items() if k.startswith("d") and isinstance(v, sympy.Symbol)
+                      and k[1:] in (*COORDINATES[coordinates], "Omega")]  # fmt: skip
         for name, text in (definitions or {}).items():
             where = f"definitions.{name}"
             if not isinstance(name, str) or not _NAME.match(name) or keyword.iskeyword(name) or name in names \
@@ -145,11 +163,16 @@ class LineElement:
                 raise LineElementError("definitions", f"{name!r} is not a usable name for a definition (letters, "
                                        "digits and _; not a parameter, coordinate, differential or function name)")
             value = self._parse(text, names, where)  # (a one-form such as l = dt + x*dx/r is inlined)
-            if coordinates == "cartesian" and not value.free_symbols & set(diffs):
+            # a scalar is a symbol of its own with chain-rule gradients; a one-form, or a spherical definition
+            # with theta or phi (converted with the line element's coefficients), is inlined
+            angular = self._theta_phi is not None and (value.has(self._theta_phi[0]) or value.has(self._theta_phi[1]))
+            if not value.free_symbols & set(diff_names) and not angular:
                 names[name] = self._define(name, value)
             else:
                 names[name] = value
         expr = self._parse(line_element, names, "line_element")
+        #: The coefficient of dOmega**2 (the areal radius squared) in Cartesian symbols; 0 when not written so.
+        self.areal_radius2 = sympy.Integer(0)
         self.g = self._components(expr, names, diffs, to_cartesian)
         self.dg = [self._d(self.g, mu) for mu in range(4)]
 
@@ -189,7 +212,7 @@ class LineElement:
 
     def _components(self, expr, names, diffs, to_cartesian) -> sympy.Matrix:
         gens = [s for s in (*diffs, *to_cartesian) if isinstance(s, sympy.Symbol)]
-        gens = list(dict.fromkeys(gens + ([self._omega] if self.coordinates == "spherical" else [])))
+        gens = list(dict.fromkeys(gens + ([self._omega] if self._theta_phi is not None else [])))
         try:
             poly = sympy.Poly(_shallow_expand(expr), *gens)
         except sympy.PolynomialError:
@@ -203,15 +226,16 @@ class LineElement:
                 raise LineElementError("line_element", f"every term must be a coefficient times two differentials; "
                                        f"one has {term} ({degree} differential{'s' if degree != 1 else ''})")
             term = sympy.Mul(*(g**k for g, k in zip(gens, monomial)))
-            if self.coordinates == "spherical":
+            if self._theta_phi is not None:
+                coeff = self._spherical_to_cartesian(coeff, "line_element")
                 if self._omega in term.free_symbols:
                     if term != self._omega**2:
                         raise LineElementError("line_element", "dOmega may appear only as dOmega**2 (the unit "
                                                "sphere's dtheta**2 + sin(theta)**2*dphi**2)")  # fmt: skip
                     term = self._domega2
+                    self.areal_radius2 = self.areal_radius2 + coeff
                 else:
                     term = term.subs(to_cartesian)
-                coeff = self._spherical_to_cartesian(coeff, "line_element")
             total += coeff * term
         cart = sympy.Poly(_shallow_expand(total), *diffs)
         g = sympy.zeros(4, 4)
@@ -223,7 +247,7 @@ class LineElement:
             else:
                 g[a, b] += coeff / 2
                 g[b, a] += coeff / 2
-        if self.coordinates == "spherical":  # dtheta, dphi brought 1/(x^2 + y^2): cancel it where it cancels
+        if self._theta_phi is not None:  # dtheta, dphi brought 1/(x^2 + y^2): cancel it where it cancels
             g = g.applyfunc(lambda c: sympy.factor_terms(sympy.cancel(c)) if c != 0 else c)
         if g[0, 0] == 0 and all(g[0, i] == 0 for i in range(1, 4)):
             raise LineElementError("line_element", "it has no dt term: a spacetime needs a time direction")
@@ -307,3 +331,39 @@ class LineElement:
             lie = sum(xi[m] * dg[m] for m in range(4)) + dxi.T @ g + g @ dxi
             axisymmetric &= bool(np.abs(lie).max() <= 1e-10 * scale * max(1.0, float(np.linalg.norm(x[1:]))))
         return {"stationary": stationary, "axisymmetric": axisymmetric}
+
+    def wormhole_problem(self, params: Mapping[str, float], *, points: int = 6, seed: int = 2) -> str:
+        """``wormhole`` coordinates: "" if the metric is the same on both sheets (even in l, as the chart's
+        inversion x -> c² x / |x|² that moves a ray between them requires) and has its throat at l = 0
+        (areal radius c there, larger on both sides), else why not."""
+        names = [p.name for p in self.params]
+        c = float(self.chart_scale.subs({p: params[n] for p, n in zip(self.params, names)}))
+        if not (c > 0 and np.isfinite(c)):
+            return f"throat_radius must be a radius > 0, got {c:g}"
+        rng = np.random.default_rng(seed)
+        r2 = self._lambdify([*self.coords, *self.params], [self.areal_radius2.subs(
+            {sym: value for sym, value, _, _ in reversed(self.definitions)})])  # fmt: skip
+        if self.areal_radius2 == 0:
+            return "a wormhole's line element needs its areal radius as the coefficient of dOmega**2"
+        values = [float(params[n]) for n in names]
+        throat = float(r2(0.0, c, 0.0, 0.0, *values)[0])
+        if not abs(throat - c * c) <= 1e-9 * c * c:
+            return f"the areal radius at l = 0 is {np.sqrt(max(throat, 0.0)):.6g}, not throat_radius = {c:.6g}"
+        for _ in range(points):
+            n = rng.normal(size=3)
+            n /= np.linalg.norm(n)
+            rho = c * float(rng.uniform(1.05, 6.0))
+            inner = c * c / rho
+            a, b = [0.0, *(n * rho)], [0.0, *(n * inner)]
+            ga, gb = self.metric_at(a, params), self.metric_at(b, params)
+            om_a, om_b = 0.5 * (1 + c * c / rho**2), 0.5 * (1 + c * c / inner**2)
+            # g_tt, g_ll and the areal radius must agree at l and -l
+            pairs = [(ga[0, 0], gb[0, 0]), (n @ ga[1:, 1:] @ n / om_a**2, n @ gb[1:, 1:] @ n / om_b**2),
+                     (float(r2(*a, *values)[0]), float(r2(*b, *values)[0]))]  # fmt: skip
+            for (u, v), what in zip(pairs, ("g_tt", "g_ll", "the areal radius")):
+                if not abs(u - v) <= 1e-9 * max(abs(u), abs(v), 1e-300):
+                    return (f"{what} differs between l and -l ({u:.6g} against {v:.6g}): warpviz's wormholes are "
+                            "the same on both sheets (write the line element even in l)")  # fmt: skip
+            if not float(r2(*a, *values)[0]) > throat:
+                return "the areal radius must grow away from the throat at l = 0"
+        return ""
