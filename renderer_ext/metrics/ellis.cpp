@@ -18,6 +18,7 @@
 #include "core/simd.h"
 #include "spacetime/frame.h"
 #include "spacetime/metric.h"
+#include "spacetime/throat_chart.h"
 
 namespace wv {
 
@@ -104,18 +105,7 @@ struct EllisWormhole : MetricBase<EllisWormhole> {
     return s;
   }
 
-  bool normalize_chart(double* y, int& sheet) const {
-    const double rho2 = y[1] * y[1] + y[2] * y[2] + y[3] * y[3];
-    if (rho2 >= b02) return false;
-    const double xp = (y[1] * y[5] + y[2] * y[6] + y[3] * y[7]) / rho2;
-    const double k = rho2 / b02;
-    for (int i = 1; i < 4; ++i) {
-      y[4 + i] = k * (y[4 + i] - 2.0 * xp * y[i]);  // p' = (rho^2/b0^2)(1 - 2 x^ x^T) p
-      y[i] *= b02 / rho2;                             // x' = b0^2 x / rho^2
-    }
-    sheet = -sheet;
-    return true;
-  }
+  bool normalize_chart(double* y, int& sheet) const { return invert_through_throat(y, b02, sheet); }
 
   int chart_to_user(const double* x, int sheet, double pos[3]) const {
     const double rho2 = x[1] * x[1] + x[2] * x[2] + x[3] * x[3];
