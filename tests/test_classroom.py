@@ -102,3 +102,15 @@ def test_window_of_the_fig13_wormhole_against_the_closed_form():
     assert math.degrees(math.asin(8.0 / r)) == pytest.approx(31.91, abs=1e-2)
     _, label = edge_circle(scene.metric, cam, cam["width"], cam["height"])
     assert label == "window radius 31.9° (exact)"
+
+
+def test_falling_camera_demo_numbers():
+    """docs/classroom.md demo 6: at r = 12 M the static camera's shadow is 23.3 degrees, the camera falling from
+    infinity (v = sqrt(2M/r) = 0.408) sees 15.2 degrees, and at the horizon acos(23/31) = 42.1 degrees."""
+    r = 12.0
+    static = math.asin(3 * math.sqrt(3) * math.sqrt(1 - 2 / r) / r)
+    v = math.sqrt(2 / r)
+    falling = math.acos((math.cos(static) + v) / (1 + v * math.cos(static)))
+    assert (round(math.degrees(static), 1), round(v, 3), round(math.degrees(falling), 1)) == (23.3, 0.408, 15.2)
+    assert round(math.degrees(math.acos(23 / 31)), 1) == 42.1
+    assert math.degrees(wv.Schwarzschild(mass=1.0).shadow_angle(r)) == pytest.approx(math.degrees(static), abs=1e-9)
