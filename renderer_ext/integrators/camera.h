@@ -42,16 +42,12 @@ class CameraRays {
     if (!(length(right_) > 0.5)) throw std::invalid_argument("camera up is parallel to the viewing direction");
     up_ = cross(right_, forward_);
     tan_half_ = std::tan(0.5 * c.fov * M_PI / 180.0);
-    if (moving_) {  // every camera ray starts in the moving observer's frame
-      start_.pos = c.position;
-      start_.sheet = c.sheet;
-      start_.ok = true;
-      for (int i = 0; i < 4; ++i) start_.x4[i] = x4[i];
-      start_.f = f;
-    } else {
-      start_ = geo.start_frame(c.position, c.sheet);
-    }
-    frame_ = f;
+    // every camera ray starts at the camera in its observer's frame
+    start_.pos = c.position;
+    start_.sheet = c.sheet;
+    start_.ok = true;
+    for (int i = 0; i < 4; ++i) start_.x4[i] = x4[i];
+    start_.f = f;
   }
 
   // Direction to trace the camera ray that the camera sees along local direction d, and the energy of its
@@ -64,16 +60,14 @@ class CameraRays {
     if constexpr (M::kFlat) {
       if (moving_) {
         double p[4];
-        for (int mu = 0; mu < 4; ++mu) p[mu] = frame_.u[mu] - d.x * frame_.e[0][mu] - d.y * frame_.e[1][mu] - d.z * frame_.e[2][mu];
+        const ObserverFrame& f = start_.f;
+        for (int mu = 0; mu < 4; ++mu) p[mu] = f.u[mu] - d.x * f.e[0][mu] - d.y * f.e[1][mu] - d.z * f.e[2][mu];
         energy = p[0];
         return normalize(V3{-p[1], -p[2], -p[3]});
       }
     }
     return d;
   }
-
-  // Whether the camera's observer is not the local static observer.
-  bool moving() const { return moving_; }
 
   // Chart point and observer frame at the camera, where every camera ray starts.
   const StartFrames::Entry& start() const { return start_; }
@@ -109,8 +103,7 @@ class CameraRays {
  private:
   const Camera& c_;
   StartFrames::Entry start_;
-  ObserverFrame frame_;  // the camera observer's frame at its position
-  bool moving_ = false;
+  bool moving_ = false;  // held by an observer other than the local static one (start_.f is its frame)
   V3 forward_, right_, up_;
   double tan_half_ = 1.0;
 };

@@ -22,6 +22,27 @@ struct ObserverFrame {
   double e[3][4];  // spatial triad e_j^mu, j = x, y, z
 };
 
+// The zero-angular-momentum observer's 4-velocity u^mu at chart point x in the metric g_{mu nu}: it rotates
+// about z with Omega = -g_tphi / g_phiphi (on the axis, where g_phiphi = 0, it is at rest); false where that
+// motion is not timelike (inside a horizon).
+inline bool zamo_velocity(const double g[4][4], const double x[4], double u[4]) {
+  const double xi[4] = {0.0, -x[2], x[1], 0.0};  // rotation about z
+  double gtp = 0.0, gpp = 0.0;
+  for (int i = 1; i < 4; ++i) {
+    gtp += g[0][i] * xi[i];
+    for (int j = 1; j < 4; ++j) gpp += g[i][j] * xi[i] * xi[j];
+  }
+  const double om = gpp > 0.0 ? -gtp / gpp : 0.0;
+  const double v[4] = {1.0, om * xi[1], om * xi[2], 0.0};
+  double n2 = 0.0;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) n2 += g[a][b] * v[a] * v[b];
+  if (!(n2 < 0.0)) return false;
+  const double s = 1.0 / std::sqrt(-n2);
+  for (int a = 0; a < 4; ++a) u[a] = v[a] * s;
+  return true;
+}
+
 // The observer's 4-velocity u^mu (and the covariant metric g_{mu nu}) at x; false where no static
 // observer or ZAMO exists (inside a horizon) or the metric is singular.
 template <class M>
@@ -34,22 +55,7 @@ bool observer_velocity(const M& m, const double x[4], double g[4][4], double u[4
     u[1] = u[2] = u[3] = 0.0;
     return true;
   }
-  const double xi[4] = {0.0, -x[2], x[1], 0.0};  // rotation about z
-  double gtp = 0.0, gpp = 0.0;
-  for (int i = 1; i < 4; ++i) {
-    gtp += g[0][i] * xi[i];
-    for (int j = 1; j < 4; ++j) gpp += g[i][j] * xi[i] * xi[j];
-  }
-  if (!(gpp > 0.0)) return false;
-  const double om = -gtp / gpp;
-  const double v[4] = {1.0, om * xi[1], om * xi[2], 0.0};
-  double n2 = 0.0;
-  for (int a = 0; a < 4; ++a)
-    for (int b = 0; b < 4; ++b) n2 += g[a][b] * v[a] * v[b];
-  if (!(n2 < 0.0)) return false;
-  const double s = 1.0 / std::sqrt(-n2);
-  for (int a = 0; a < 4; ++a) u[a] = v[a] * s;
-  return true;
+  return zamo_velocity(g, x, u);
 }
 
 // A metric may give its observer frame in closed form,

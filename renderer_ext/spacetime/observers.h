@@ -252,13 +252,8 @@ std::string observer_velocity_of(const M& m, const double x[4], const ObserverSp
       const double v[4] = {1.0, 0.0, 0.0, 0.0};
       return normalise_timelike(g, v, u, "static observer");
     }
-    case ObserverKind::kZamo: {
-      const double xi[4] = {0.0, -x[2], x[1], 0.0}, dt[4] = {1.0, 0.0, 0.0, 0.0};
-      const double gtp = dot4(g, dt, xi), gpp = dot4(g, xi, xi);
-      const double om = gpp > 0.0 ? -gtp / gpp : 0.0;  // on the axis the ZAMO is the static observer
-      const double v[4] = {1.0, om * xi[1], om * xi[2], 0.0};
-      return normalise_timelike(g, v, u, "zero-angular-momentum observer (inside a horizon)");
-    }
+    case ObserverKind::kZamo:
+      return zamo_velocity(g, x, u) ? "" : "no zero-angular-momentum observer here (inside a horizon)";
     case ObserverKind::kOrbit:
       return orbit_velocity(m, x, s.axis, u);
     case ObserverKind::kFreeFall:

@@ -121,20 +121,21 @@ def _frames_on(scene: Scene, cam: dict, taus: np.ndarray, stop_radius: float, lo
     """The cameras at proper times taus along cam's worldline: each held by the observer there (its chart
     4-velocity, observer "given")."""
     pos, sheets, _, u = _worldline(scene, cam, taus, stop_radius)
-    ahead = _worldline(scene, cam, np.asarray(taus) + 1e-4 * max(1.0, _radius(cam["position"])), stop_radius)[0]
+    if not len(pos):
+        raise ValueError("the camera's worldline ends where it starts")
+    ahead = []  # a moment later on the same worldline: the direction of motion
+    if look == "ahead":
+        ahead = _worldline(scene, cam, np.asarray(taus) + 1e-4 * max(1.0, _radius(cam["position"])), stop_radius)[0]
     out = []
     for i in range(len(pos)):
         c = copy.deepcopy(cam)
         c["position"] = [float(v) for v in pos[i]]
         c["sheet"] = int(sheets[i])
         c["observer"] = {"kind": "given", "u": [float(v) for v in u[i]]}
-        if look == "ahead" and i < len(ahead) and np.linalg.norm(ahead[i] - pos[i]) > 0:
+        if i < len(ahead) and np.linalg.norm(ahead[i] - pos[i]) > 0:
             c["look_at"] = [float(v) for v in pos[i] + 10.0 * (ahead[i] - pos[i]) / np.linalg.norm(ahead[i] - pos[i])]
         c["tau"] = float(taus[i])
         out.append(c)
-    if len(out) < len(taus):
-        if not out:
-            raise ValueError("the camera's worldline ends where it starts")
     return out
 
 

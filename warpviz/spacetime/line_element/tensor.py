@@ -129,12 +129,14 @@ class LineElement:
             diffs = sympy.symbols("dt dx dy dz")
             names.update(dict(zip(("dt", "dx", "dy", "dz"), diffs)))
             to_cartesian = dict(zip(diffs, diffs))
+            written_diffs = set(diffs)  # the differentials the text may use
         else:
             th, ph = sympy.symbols("theta phi", real=True)
             self._theta_phi = (th, ph)
             radial = "r" if coordinates == "spherical" else "l"
             d = sympy.symbols(f"dt d{radial} dtheta dphi dOmega")
             names.update(dict(zip(("dt", f"d{radial}", "dtheta", "dphi", "dOmega"), d)))
+            written_diffs = set(d)
             dX = sympy.symbols("dx dy dz")
             diffs = (d[0], *dX)
             dr = (x * dX[0] + y * dX[1] + z * dX[2]) / r
@@ -154,8 +156,6 @@ class LineElement:
                             d[3]: (x * dX[1] - y * dX[0]) / rho**2}  # fmt: skip
             self._domega2 = (dX[0] ** 2 + dX[1] ** 2 + dX[2] ** 2 - dr**2) / r**2
             self._omega = d[4]
-        diff_names = [v for k, v in names.items() if k.startswith("d") and isinstance(v, sympy.Symbol)
-                      and k[1:] in (*COORDINATES[coordinates], "Omega")]  # fmt: skip
         for name, text in (definitions or {}).items():
             where = f"definitions.{name}"
             if not isinstance(name, str) or not _NAME.match(name) or keyword.iskeyword(name) or name in names \
@@ -166,7 +166,7 @@ class LineElement:
             # a scalar is a symbol of its own with chain-rule gradients; a one-form, or a spherical definition
             # with theta or phi (converted with the line element's coefficients), is inlined
             angular = self._theta_phi is not None and (value.has(self._theta_phi[0]) or value.has(self._theta_phi[1]))
-            if not value.free_symbols & set(diff_names) and not angular:
+            if not value.free_symbols & written_diffs and not angular:
                 names[name] = self._define(name, value)
             else:
                 names[name] = value
