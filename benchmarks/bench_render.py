@@ -198,22 +198,27 @@ def image_precision(cfg: dict, *, threads: int) -> list[dict]:
     for name in cfg["scenes"]:
         scene = room(name, cfg["size"])
         ref = wv.render(scene, spp=cfg["spp"], seed=3, threads=0, max_depth=MAX_DEPTH, stepper="dop853",
-                        tol=1e-12, pilot_tol=1e-12).rgb.astype(np.float64)  # fmt: skip
+                        tol=1e-12, pilot_tol=1e-12, segment_method="integrate").rgb.astype(np.float64)  # fmt: skip
         scale = float(ref.mean())
-        for stepper in ("dopri5", "dop853", "rk4"):
-            for tol in cfg["rk4_tols"] if stepper == "rk4" else cfg["tols"]:
-                img, cpu, wall = render_timed(scene, threads=threads, spp=cfg["spp"], seed=3, stepper=stepper, tol=tol,
-                                              pilot_tol=tol)  # fmt: skip
-                diff = np.abs(img.rgb.astype(np.float64) - ref)
-                rows.append({
-                    "scene": name, "stepper": stepper, "tol": tol, "width": cfg["size"][0], "height": cfg["size"][1],
-                    "spp": cfg["spp"], "cpu_s": cpu, "wall_s": wall,
-                    "samples_per_s_per_core": samples(scene, cfg["spp"]) / cpu,
-                    "steps_per_sample": img.stats["steps"] / samples(scene, cfg["spp"]),
-                    "rel_rmse": float(np.sqrt(np.mean(diff**2))) / scale, "rel_mae": float(diff.mean()) / scale,
-                    "rel_p99": float(np.percentile(diff.max(axis=-1), 99)) / scale, "max_abs_error": float(diff.max()),
-                    "frac_pixels_off": float(np.mean(diff.max(axis=-1) > 1e-3 * scale)),
-                })  # fmt: skip
+        # the integrators at each tolerance, then the closed-form segments (where the metric has them; their
+        # pilots at 1e-12 so that only the segments differ from the reference)
+        runs = [(stepper, tol, "integrate") for stepper in ("dopri5", "dop853", "rk4")
+                for tol in (cfg["rk4_tols"] if stepper == "rk4" else cfg["tols"])]  # fmt: skip
+        runs.append(("closed_form", 1e-12, "closed_form"))
+        for stepper, tol, method in runs:
+            img, cpu, wall = render_timed(scene, threads=threads, spp=cfg["spp"], seed=3,
+                                          stepper="dop853" if method == "closed_form" else stepper, tol=tol,
+                                          pilot_tol=tol, segment_method=method)  # fmt: skip
+            diff = np.abs(img.rgb.astype(np.float64) - ref)
+            rows.append({
+                "scene": name, "stepper": stepper, "tol": tol, "width": cfg["size"][0], "height": cfg["size"][1],
+                "spp": cfg["spp"], "cpu_s": cpu, "wall_s": wall,
+                "samples_per_s_per_core": samples(scene, cfg["spp"]) / cpu,
+                "steps_per_sample": img.stats["steps"] / samples(scene, cfg["spp"]),
+                "rel_rmse": float(np.sqrt(np.mean(diff**2))) / scale, "rel_mae": float(diff.mean()) / scale,
+                "rel_p99": float(np.percentile(diff.max(axis=-1), 99)) / scale, "max_abs_error": float(diff.max()),
+                "frac_pixels_off": float(np.mean(diff.max(axis=-1) > 1e-3 * scale)),
+            })  # fmt: skip
     return rows
 
 
@@ -329,7 +334,7 @@ def plot(tp: list[dict], lc: list[dict], wp: list[dict], out: Path) -> list[Path
     for row, (key, label) in enumerate((("rel_mae", "relative mean abs. error"),
                                         ("rel_p99", "99th percentile of rel. pixel error"))):
         for ax, name in zip(axes[row], scenes):
-            for stepper, marker in (("dopri5", "o"), ("dop853", "s"), ("rk4", "v")):
+            for stepper, marker in (("dopri5", "o"), ("dop853", "s"), ("rk4", "v"), ("closed_form", "*")):
                 pts = sorted(((r["cpu_s"], r[key], r["tol"]) for r in wp
                               if r["scene"] == name and r["stepper"] == stepper and r[key] > 0),
                              key=lambda p: -p[2])  # loose to tight tol

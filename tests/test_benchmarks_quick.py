@@ -273,3 +273,14 @@ def test_line_element_benchmark_runs_the_generated_and_the_built_in_metric(tmp_p
     assert bench_line_element.main(["--metrics", "schwarzschild", "--out", str(tmp_path)]) == 0
     [row] = read_csv(tmp_path / "line_element.csv")
     assert row["metric"] == "schwarzschild" and float(row["ratio_double"]) > 0 and float(row["ratio_lanes"]) > 0
+
+
+def test_gravity_cost_benchmark_times_every_variant(tmp_path):
+    import bench_gravity_cost
+
+    assert bench_gravity_cost.main(["--quick", "--rooms", "fig07", "--out", str(tmp_path)]) == 0
+    rows = {r["variant"]: r for r in read_csv(tmp_path / "gravity_cost.csv")}
+    assert set(rows) == {"flat", "integrate", "closed_form"}
+    assert float(rows["flat"]["steps_per_sample"]) == 0.0
+    assert float(rows["closed_form"]["steps_per_sample"]) < 0.1 * float(rows["integrate"]["steps_per_sample"])
+    assert float(rows["closed_form"]["median_pixel_rel_diff_vs_integrate"]) < 1e-4

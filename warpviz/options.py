@@ -119,6 +119,10 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
     RenderOption("chord_tolerance", "real", 1e-3, "Largest distance between a step's chord and the curved ray "
                  "when the chord is tested against the scene.", lo=0.0, hi=math.inf, lo_open=True,
                  hi_open=True),  # fmt: skip
+    RenderOption("segment_method", "choice", "closed_form", "How curved segments are traced: 'closed_form' "
+                 "evaluates the ray's exact orbit where the metric has one (Schwarzschild: an elliptic function "
+                 "of the azimuth; other metrics integrate), 'integrate' always steps the integrator (the "
+                 "reference).", choices=("closed_form", "integrate")),  # fmt: skip
     RenderOption("light_connection", "choice", "lens", "How light samples find the lights in curved space: "
                  "'lens' samples every lensed image of a light (exact in Schwarzschild, Reissner-Nordstrom and "
                  "Ellis, Newton-refined proxies in Kerr); 'aimed' uses flat-space proxies aimed by pilot "

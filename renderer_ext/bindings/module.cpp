@@ -268,6 +268,12 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.trace.escape_radius = option<double>(options, "escape_radius");
   o.trace.max_drift = option<double>(options, "max_drift");
   o.chord_tol = option<double>(options, "chord_tolerance");
+  {
+    const std::string sm = option<std::string>(options, "segment_method");
+    if (sm != "closed_form" && sm != "integrate")
+      throw std::invalid_argument("segment_method must be 'closed_form' or 'integrate', got '" + sm + "'");
+    o.segment_method = sm == "closed_form" ? wv::kClosedFormSegments : wv::kIntegratedSegments;
+  }
   o.aim_lights = option<bool>(options, "aim_lights");
   o.light_margin = option<bool>(options, "light_margin");
   o.pilot_tol = option<double>(options, "pilot_tol");

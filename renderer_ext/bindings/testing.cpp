@@ -12,10 +12,12 @@
 #include "bindings/arrays.h"
 #include "bindings/scene_dict.h"
 #include "engine/registry.h"
+#include "core/elliptic.h"
 #include "core/sobol.h"
 #include "film/pixel_filter.h"
 #include "integrators/lens_connection.h"
 #include "scene/material.h"
+#include "spacetime/planar_orbit.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -153,6 +155,48 @@ void bind_testing(nb::module_& m) {
       },
       "kind"_a, "radius"_a, "u"_a,
       "Test hook: one axis of pixel filter `kind` (0 box, 1 gaussian, 2 mitchell): offsets and weights of u (n,).");
+  m.def(
+      "jacobi",
+      [](F64In x, double m) {
+        const auto xv = copy1(x, x.ndim() == 1 ? x.shape(0) : 0, "x");
+        const wv::JacobiFunctions j(m);
+        if (!j.valid()) throw std::invalid_argument("parameter m outside (0, 0.9999]");
+        std::vector<double> out(3 * xv.size());
+        for (size_t i = 0; i < xv.size(); ++i) {
+          const wv::JacobiValues v = j(xv[i]);
+          out[3 * i] = v.sn;
+          out[3 * i + 1] = v.cn;
+          out[3 * i + 2] = v.dn;
+        }
+        return nb::make_tuple(to_numpy(std::move(out), {xv.size(), 3}), j.K());
+      },
+      "x"_a, "m"_a, "Test hook: sn, cn, dn (n, 3) of x (n,) and K(m) (core/elliptic.h).");
+  m.def(
+      "elliptic_f",
+      [](double phi, double m) {
+        return wv::elliptic_f(std::sin(phi), std::cos(phi), m, wv::elliptic_k(m));
+      },
+      "phi"_a, "m"_a, "Test hook: F(phi | m) for phi in [0, pi] (core/elliptic.h).");
+  m.def(
+      "planar_orbit",
+      [](double mass, double b, double u0, bool inward, F64In phi, F64In u_targets) -> nb::object {
+        const wv::PlanarOrbit o(mass, b, u0, inward);
+        if (!o.valid()) return nb::none();
+        const auto ph = copy1(phi, phi.ndim() == 1 ? phi.shape(0) : 0, "phi");
+        const auto ut = copy1(u_targets, u_targets.ndim() == 1 ? u_targets.shape(0) : 0, "u_targets");
+        std::vector<double> u(ph.size()), du(ph.size()), at(2 * ut.size());
+        for (size_t i = 0; i < ph.size(); ++i) u[i] = o.u(ph[i], &du[i]);
+        for (size_t i = 0; i < ut.size(); ++i) {
+          at[2 * i] = o.phi_of(ut[i], false);
+          at[2 * i + 1] = o.phi_of(ut[i], true);
+        }
+        return nb::make_tuple(to_numpy(std::move(u), {ph.size()}), to_numpy(std::move(du), {ph.size()}),
+                              to_numpy(std::move(at), {ut.size(), 2}));
+      },
+      "mass"_a, "b"_a, "u0"_a, "inward"_a, "phi"_a, "u_targets"_a,
+      "Test hook: the closed-form orbit (spacetime/planar_orbit.h): u and du/dphi at phi (n,), and the azimuth "
+      "(k, 2) at which it reaches each target u on its inward and outward branch (NaN: not ahead); None where "
+      "the closed form does not apply.");
   m.def(
       "lens_ray",
       [](const std::string& metric, const std::vector<double>& params, double r_a, double r_b, bool same_sheet,

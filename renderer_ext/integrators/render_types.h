@@ -21,6 +21,10 @@ enum LightConnectionKind : int { kAimedConnection = 0, kLensConnection = 1 };
 // pixel's stratified (Owen-scrambled Sobol) sequence (core/sobol.h).
 enum PixelSamplerKind : int { kIndependentPixels = 0, kSobolPixels = 1 };
 
+// How a curved segment is traced: in closed form where the metric's light orbits have one
+// (orbit_segment.h: Schwarzschild's), else integrated; or always integrated (the reference).
+enum SegmentMethodKind : int { kClosedFormSegments = 0, kIntegratedSegments = 1 };
+
 // The options of one render. The binding (bindings/module.cpp) sets every field from the options Python
 // resolved against its table (warpviz/options.py: one row per option, its default and range), so the
 // initial values here are zeros, not defaults: a default lives in that table alone.
@@ -36,6 +40,7 @@ struct RenderOptions {
   bool light_sampling = false;
   TraceOptions trace;  // tol, max_steps, escape_radius, max_drift (record is ignored)
   double chord_tol = 0.0;
+  int segment_method = kClosedFormSegments;
   bool aim_lights = false;    // curved space: shift light proxies by a pilot geodesic's miss (light_aim.h)
   bool light_margin = false;  // ... and enlarge quad and disk proxies by that shift (lensed images are larger)
   int light_connection = kLensConnection;

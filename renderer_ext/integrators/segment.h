@@ -1,6 +1,7 @@
 // Geodesic segments of a light path: from the camera or just off a surface to the next surface or the sky,
 // a straight line in flat space (one BVH query, nothing integrated), in curved space a backward geodesic
-// tested against the scene's surfaces (surface_hits.h); SegmentEnd is where it ended.
+// tested against the scene's surfaces: its exact orbit where the metric has one in closed form
+// (orbit_segment.h), else integrated (surface_hits.h); SegmentEnd is where it ended.
 #pragma once
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include "core/task.h"
 #include "core/vec3.h"
 #include "integrators/chart_geometry.h"
+#include "integrators/orbit_segment.h"
 #include "integrators/render_types.h"
 #include "integrators/sample_scheduler.h"
 #include "integrators/surface_hits.h"
@@ -49,11 +51,13 @@ class SegmentTracer {
   using Scheduler = SampleScheduler<M, S>;
 
   // Segments are backward rays, unrecorded, that escape beyond the scene's bounding sphere.
-  SegmentTracer(const M& m, const Scene& sc, const RenderOptions& o) : m_(m), sc_(sc), o_(o), geo_(m) {
+  SegmentTracer(const M& m, const Scene& sc, const RenderOptions& o)
+      : m_(m), sc_(sc), o_(o), geo_(m), orbits_(m, sc, o.chord_tol, escape_radius(o, sc)) {
     topt_ = o.trace;
     topt_.record = false;
     topt_.backward = true;
-    topt_.escape_radius = std::max(o.trace.escape_radius, 1.05 * sc.bound_radius + 1.0);
+    topt_.escape_radius = escape_radius(o, sc);
+    closed_form_ = o.segment_method == kClosedFormSegments && orbits_.active();
   }
 
   const TraceOptions& options() const { return topt_; }
@@ -104,6 +108,7 @@ class SegmentTracer {
       ++st.counts[e.status];
       co_return;
     }
+    if (closed_form_ && !track && orbit_segment(y, sheet, skip, skip_dist, st, e)) co_return;
     const RayResult res = co_await Geodesic<M, S, SceneSurfaces<M>>(
         m_, sched, y, sheet, topt_, track, SceneSurfaces<M>(m_, sc_, o_.chord_tol, skip, skip_dist));
     e.status = res.status;
@@ -122,14 +127,56 @@ class SegmentTracer {
         e.status = kHorizon;
         co_return;
       }
-      double n[3];
-      e.energy = -momentum_to_frame(e.frame, res.y + 4, n);
-      for (int i = 0; i < 8; ++i) e.y[i] = res.y[i];
-      e.dir = V3(n);
-      e.surface = sc_.surface(e.prim, e.pos);
-      e.normal_local = geo_.local_normal(res.y, e.frame, e.surface.normal);
-      e.to_local = geo_.local_map(res.y, e.frame);
+      finish_hit(res.y, e);
     }
+  }
+
+  // The segment from backward state y in closed form (orbit_segment.h); false where it does not apply.
+  // A hit's state is rebuilt from the orbit: the local direction of travel there, in the static observer's
+  // frame, as a momentum with the start's p_t (conserved); its time coordinate is left at the start's.
+  bool orbit_segment(const double y[8], int sheet, int skip, double skip_dist, RenderStats& st, SegmentEnd& e) const {
+    double dy[8];
+    m_.rhs(y, dy);
+    OrbitEnd end;
+    if (!orbits_.trace(y, dy + 1, sheet, skip, skip_dist, end)) return false;
+    e.status = end.status;
+    e.prim = end.prim;
+    e.pos = end.pos;
+    e.sheet = sheet;
+    if (e.status == kEscaped) {
+      e.dir = end.dir;
+      e.energy = y[4];
+    } else if (e.status == kHit) {
+      StartFrames at;
+      double yh[8];
+      if (!geo_.backward_state(end.pos, sheet, end.dir, yh, at)) {
+        e.status = kHorizon;
+      } else {
+        const double scale = y[4] / yh[4];
+        for (int i = 4; i < 8; ++i) yh[i] *= scale;
+        yh[0] = y[0];
+        e.frame = at.e[0].f;
+        finish_hit(yh, e);
+      }
+    }
+    ++st.counts[e.status];
+    return true;
+  }
+
+  // A hit at chart state y (backward momentum) with e.frame the observer there: energy, direction, state,
+  // surface point and the maps to the local frame.
+  void finish_hit(const double* y, SegmentEnd& e) const {
+    double n[3];
+    e.energy = -momentum_to_frame(e.frame, y + 4, n);
+    for (int i = 0; i < 8; ++i) e.y[i] = y[i];
+    e.dir = V3(n);
+    e.surface = sc_.surface(e.prim, e.pos);
+    e.normal_local = geo_.local_normal(y, e.frame, e.surface.normal);
+    e.to_local = geo_.local_map(y, e.frame);
+  }
+
+  static double escape_radius(const RenderOptions& o, const Scene& sc) {
+    return std::max(o.trace.escape_radius, 1.05 * sc.bound_radius + 1.0);
   }
 
   void flat_track(V3 a, V3 b, int sheet, Track& t) const {
@@ -149,7 +196,9 @@ class SegmentTracer {
   const Scene& sc_;
   const RenderOptions& o_;
   ChartGeometry<M> geo_;
+  OrbitSegments<M> orbits_;
   TraceOptions topt_;
+  bool closed_form_ = false;
 };
 
 }  // namespace wv

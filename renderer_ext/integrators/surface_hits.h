@@ -13,6 +13,43 @@
 
 namespace wv {
 
+// Where a curve parametrised by t in [ta, tb] first crosses a surface, f(t) its implicit function there
+// (a distance), starting the search from the chord's estimate tg: scan from ta for the first sign change,
+// probing near tg first (and finely if the chord crossed twice within a probe interval), then the Illinois
+// crossing to within 1e-14 in t or ftol() in f, ftol evaluated after the scan. False: the curve misses what
+// the chord grazed.
+template <class F, class Tol>
+bool curve_crossing(const F& f, const Tol& ftol, double ta, double tb, double tg, double& theta) {
+  const double fa = f(ta), width = tb - ta;
+  double lo = ta, flo = fa, hi = -1.0, fhi = 0.0;
+  auto scan = [&](const double* ts, int n) {
+    double pt = ta, pf = fa;
+    for (int i = 0; i < n; ++i) {
+      const double t = ts[i];
+      if (t <= pt || t > tb) continue;
+      const double ft = f(t);
+      if ((ft < 0.0) != (pf < 0.0)) {
+        lo = pt;
+        flo = pf;
+        hi = t;
+        fhi = ft;
+        return true;
+      }
+      pt = t;
+      pf = ft;
+    }
+    return false;
+  };
+  const double probes[] = {tg - 0.02 * width, tg + 0.02 * width, tg + 0.1 * width, tb};
+  if (!scan(probes, 4)) {
+    double fine[32];
+    for (int i = 0; i < 32; ++i) fine[i] = ta + width * (i + 1) / 32.0;
+    if (!scan(fine, 32)) return false;
+  }
+  theta = crossing(f, lo, flo, hi, fhi, 1e-14, ftol());
+  return true;
+}
+
 template <class M>
 struct SceneSurfaces {
   static constexpr bool kActive = true;
@@ -129,37 +166,8 @@ struct SceneSurfaces {
       m.chart_to_user(ys, sheet, q);
       return sc.implicit_at(p, V3(q));
     };
-    // Bracket: scan the arc from ta for the first sign change, probing near the chord estimate first;
-    // if the chord crossed twice within a probe interval, scan finely.
-    const double fa = f(ta), width = tb - ta;
-    double lo = ta, flo = fa, hi = -1.0, fhi = 0.0;
-    auto scan = [&](const double* ts, int n) {
-      double pt = ta, pf = fa;
-      for (int i = 0; i < n; ++i) {
-        const double t = ts[i];
-        if (t <= pt || t > tb) continue;
-        const double ft = f(t);
-        if ((ft < 0.0) != (pf < 0.0)) {
-          lo = pt;
-          flo = pf;
-          hi = t;
-          fhi = ft;
-          return true;
-        }
-        pt = t;
-        pf = ft;
-      }
-      return false;
-    };
-    const double probes[] = {tg - 0.02 * width, tg + 0.02 * width, tg + 0.1 * width, tb};
-    if (!scan(probes, 4)) {
-      double fine[32];
-      for (int i = 0; i < 32; ++i) fine[i] = ta + width * (i + 1) / 32.0;
-      if (!scan(fine, 32)) return false;  // the arc misses what the chord grazed
-    }
     // |f| is a distance (unit-normal planes, |p - c| - R for spheres): stop at 1e-12 M
-    theta = crossing(f, lo, flo, hi, fhi, 1e-14, 1e-12 * (1.0 + length(V3(q))));
-    return true;
+    return curve_crossing(f, [&] { return 1e-12 * (1.0 + length(V3(q))); }, ta, tb, tg, theta);
   }
 };
 

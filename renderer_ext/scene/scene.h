@@ -68,6 +68,27 @@ class Scene {
       default: return implicit(triangles[pr.index], x);
     }
   }
+  // The unit normal of a flat primitive (quad, disk, triangle: implicit_at is the signed distance from its
+  // plane), or null (a sphere).
+  const V3* plane_normal(int p) const {
+    const Prim& pr = prims[p];
+    switch (pr.kind) {
+      case PrimKind::kSphere: return nullptr;
+      case PrimKind::kQuad: return &quads[pr.index].normal;
+      case PrimKind::kDisk: return &disks[pr.index].normal;
+      default: return &triangles[pr.index].normal;
+    }
+  }
+  // plane_gap (shapes.h) of a flat primitive; 0 for a sphere.
+  double plane_gap(int p, V3 x) const {
+    const Prim& pr = prims[p];
+    switch (pr.kind) {
+      case PrimKind::kSphere: return 0.0;
+      case PrimKind::kQuad: return wv::plane_gap(quads[pr.index], x);
+      case PrimKind::kDisk: return wv::plane_gap(disks[pr.index], x);
+      default: return wv::plane_gap(triangles[pr.index], x);
+    }
+  }
   SurfacePoint surface(int p, V3 x) const {
     const Prim& pr = prims[p];
     switch (pr.kind) {

@@ -143,6 +143,27 @@ inline double implicit(const Quad& q, V3 p) { return dot(p - q.corner, q.normal)
 inline double implicit(const Disk& k, V3 p) { return dot(p - k.center, k.normal); }
 inline double implicit(const Triangle& tr, V3 p) { return dot(p - tr.a, tr.normal); }
 
+// A lower bound on the distance, within its plane, from point x of the plane to a flat primitive (<= 0
+// inside it): how far a crossing of the plane found approximately may lie from it and still miss.
+inline double plane_gap(const Quad& q, V3 x) {
+  const V3 w = x - q.corner;
+  const double s = dot(w, q.du), r = dot(w, q.dv);
+  return std::max(std::max(-s, s - 1.0) / length(q.du), std::max(-r, r - 1.0) / length(q.dv));
+}
+inline double plane_gap(const Disk& k, V3 x) {
+  const V3 w = x - k.center;
+  const double rho = std::sqrt(std::max(0.0, dot(w, w) - dot(w, k.normal) * dot(w, k.normal)));
+  return std::max(rho - k.r_out, k.r_in - rho);
+}
+inline double plane_gap(const Triangle& tr, V3 x) {
+  // barycentric coordinates as linear functions of x in the plane: b1 = (x - a).g1, b2 = (x - a).g2
+  const V3 g1 = cross(tr.e2, tr.normal) * (1.0 / dot(tr.e1, cross(tr.e2, tr.normal)));
+  const V3 g2 = cross(tr.normal, tr.e1) * (1.0 / dot(tr.e2, cross(tr.normal, tr.e1)));
+  const V3 w = x - tr.a;
+  const double b1 = dot(w, g1), b2 = dot(w, g2);
+  return std::max(std::max(-b1 / length(g1), -b2 / length(g2)), (b1 + b2 - 1.0) / length(g1 + g2));
+}
+
 // --- normal and texture coordinates at a surface point ------------------------------------------------
 
 inline SurfacePoint surface_at(const Sphere& s, V3 p) {

@@ -17,7 +17,10 @@
 // radial ray) to infinity (rays that approach the photon sphere or the throat), so every order has exactly
 // one image and each is a bracketed 1-D root.
 //
-// The integrals are evaluated in t, u = u_t - t^2 around the turning point u_t (periapsis, or the throat a
+// Where P is Schwarzschild's cubic, P = 2M b^2 (u - u1)(u2 - u)(u3 - u) with the turning point u2, the
+// azimuth between two radii is Carlson's R_F of the roots (B. C. Carlson, Math. Comp. 51 (1988) 267:
+// int_y^x du / sqrt(prod (a_i + b_i u)) = 2 R_F(U12^2, U13^2, U23^2)), exact to rounding at any b.
+// Otherwise the integrals are evaluated in t, u = u_t - t^2 around the turning point u_t (periapsis, or the throat a
 // ray passes through to the other sheet), where P(u_t - t^2) = t^2 D(t^2) with D a polynomial from the
 // Taylor shift of P: no cancellation, no singular endpoint, Gauss-Legendre converges geometrically; rays
 // that nearly graze the photon sphere get graded pieces towards t = 0. Relative error of Phi: below 1e-11
@@ -33,6 +36,7 @@
 #include <cmath>
 
 #include "core/dual.h"
+#include "core/elliptic.h"
 
 namespace wv {
 
@@ -46,6 +50,17 @@ struct SphericalLens {
   // to the other sheet).
   double u_inner = 0.0;
   bool throat = false;
+
+  // M where P is Schwarzschild's cubic, 1 - b^2 u^2 + 2M b^2 u^3 (A = 1 - 2M u, h = 1), else 0: then its
+  // integrals are Carlson's R_F of its roots (LensMap) and its orbits elliptic functions (planar_orbit.h).
+  double cubic_mass() const {
+    if (throat || a[0] != 1.0 || !(a[1] < 0.0) || h[0] != 1.0) return 0.0;
+    for (int k = 2; k < kMaxCoef; ++k)
+      if (a[k] != 0.0) return 0.0;
+    for (int k = 1; k < kMaxCoef; ++k)
+      if (h[k] != 0.0) return 0.0;
+    return -0.5 * a[1];
+  }
 };
 
 // One ray between two radii, found or evaluated: its emission angle psi at A, swept azimuth Phi, dPhi /
@@ -67,6 +82,7 @@ class LensMap {
       if (s.h[k] != 0.0) nh_ = k + 1;
     }
     np_ = na_ + nh_ + 2;  // P's coefficients 0 .. np_ - 1
+    cubic_m_ = s.cubic_mass();
     AA_ = poly(s.a, uA);
     const double AB = poly(s.a, uB), Ai = poly(s.a, s.u_inner);
     if (!(AA_ > 0.0 && AB > 0.0 && Ai > 0.0)) return;
@@ -344,6 +360,10 @@ class LensMap {
       // u_t as a function of b: one Newton step in duals from the converged root (the throat is fixed).
       D1 ut(ut_v);
       if (!through) ut = ut - peval(pd, ut) / pderiv(p, ut_v);
+      if (cubic_m_ > 0.0 && !through) {
+        if (!cubic_phi(b, ut, after_turn, phi, root_p_b)) return false;
+        return finish(r, phi, psi, b, inward, after_turn, root_p_b, dphi_dtau);
+      }
       // Taylor shift: P(ut - e) = sum c_j e^j; D(e) = sum_{j >= 1} c_j e^(j - 1).
       D1 sh[kP];
       for (int i = 0; i < kP; ++i) sh[i] = pd[i];
@@ -372,6 +392,11 @@ class LensMap {
       phi = plain_integral(pd, b, std::min(uA_, uB_), std::max(uA_, uB_));
       root_p_b = std::sqrt(std::max(0.0, peval(p, uB_)));
     }
+    return finish(r, phi, psi, b, inward, after_turn, root_p_b, dphi_dtau);
+  }
+
+  bool finish(LensRay& r, D1 phi, D1 psi, D1 b, bool inward, bool after_turn, double root_p_b,
+              double* dphi_dtau) const {
     if (!std::isfinite(phi.v) || !std::isfinite(phi.d[0])) return false;
     const bool arrives_outward = after_turn || !inward;
     r.ok = true;
@@ -384,9 +409,48 @@ class LensMap {
     return true;
   }
 
+  // Schwarzschild's cubic: Phi from A to B (after_turn: in to the turning point u2 and out again) by
+  // Carlson's R_F of the roots u1 < 0 < u2 < u3 (u3 + u1 = 1/2M - u2, u3 u1 = -1 / (2M b^2 u2)), and
+  // sqrt(P(uB)). The factors (u - u1), (u2 - u), (u3 - u) are positive between the radii.
+  bool cubic_phi(D1 b, D1 u2, bool after_turn, D1& phi, double& root_p_b) const {
+    const double M = cubic_m_;
+    const D1 p = 0.5 / M - u2, c = 1.0 / (2.0 * M * b * b * u2);
+    const D1 u3 = 0.5 * (p + sqrt(p * p + 4.0 * c)), u1 = -c / u3;
+    if (!(u1.v < 0.0 && u3.v > u2.v)) return false;
+    const double scale = 2.0 / std::sqrt(2.0 * M);  // b / sqrt(2M b^2), times R_F's 2
+    auto factor_sqrt = [&](D1 u, D1& f1, D1& f2, D1& f3) {
+      const D1 g2 = u2 - u;
+      if (!(g2.v >= -1e-12 * u2.v)) return false;
+      f1 = sqrt(u - u1);
+      f2 = g2.v > 0.0 ? sqrt(g2) : D1(0.0);
+      f3 = sqrt(u3 - u);
+      return true;
+    };
+    // int_y^x (y < x) of du / sqrt((u - u1)(u2 - u)(u3 - u)), times b / sqrt(2M b^2)
+    auto integral = [&](D1 x, D1 y) {
+      D1 X1, X2, X3, Y1, Y2, Y3;
+      if (!(x.v > y.v)) return D1(0.0);
+      if (!factor_sqrt(x, X1, X2, X3) || !factor_sqrt(y, Y1, Y2, Y3)) return D1(NAN);
+      const D1 d = x - y;
+      const D1 U12 = (X1 * X2 * Y3 + Y1 * Y2 * X3) / d, U13 = (X1 * X3 * Y2 + Y1 * Y3 * X2) / d,
+               U23 = (X2 * X3 * Y1 + Y2 * Y3 * X1) / d;
+      return scale * carlson_rf(U12 * U12, U13 * U13, U23 * U23);
+    };
+    const D1 uA(uA_), uB(uB_);
+    if (after_turn) {
+      phi = integral(u2, uA) + integral(u2, uB);
+    } else {
+      phi = uA_ >= uB_ ? integral(uA, uB) : integral(uB, uA);
+    }
+    const double gB = std::max(0.0, u2.v - uB_);
+    root_p_b = b.v * std::sqrt(2.0 * M * (uB_ - u1.v) * gB * (u3.v - uB_));
+    return std::isfinite(phi.v);
+  }
+
   const SphericalLens& s_;
   double uA_, uB_, AA_ = 0.0, bc_ = 0.0, bB_ = 0.0;
   double tau_lo_ = 0.0, tau_hi_ = 0.0;
+  double cubic_m_ = 0.0;
   int na_ = 1, nh_ = 1, np_ = 4;
   Case case_ = kOutward;
   bool valid_ = false;

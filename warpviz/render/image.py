@@ -35,7 +35,7 @@ __all__ = ["Image", "tonemap", "AOV_DESCRIPTIONS"]
 #: What each AOV of a render holds (all float32, (H, W) unless noted).
 AOV_DESCRIPTIONS = {
     "redshift": "g = nu_camera / nu_source of the camera ray's first hit or of the sky (0: horizon), sample 0",
-    "n_steps": "mean number of integration steps per sample (all geodesics of the path)",
+    "n_steps": "mean number of integration steps per sample (all geodesics of the path; 0 for flat and closed-form segments)",
     "max_drift": "largest reported drift (relative |X - X0| / |X0|, term-scaled where X0 ~ 0 and for H) of any conserved quantity on any geodesic of the pixel",
     "status": "RayStatus code of the camera geodesic of sample 0 (0 escaped, 1 hit, 2 horizon, ...)",
     "depth": "user-frame distance from the camera to the first hit (inf: none), sample 0",

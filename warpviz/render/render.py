@@ -92,6 +92,7 @@ def render(
     escape_radius: float | None = None,
     max_drift: float | None = None,
     chord_tolerance: float | None = None,
+    segment_method: str | None = None,
     aovs=None,
     crop=None,
     progress: Callable[[int, int], object] | None = None,
@@ -187,6 +188,10 @@ def render(
         Russian roulette's first segment, steps per segment, the escape radius, the largest drift of a
         conserved quantity and the chord tolerance (docs/render-options.md lists every option, its range
         and default: warpviz/options.py's table).
+    segment_method : {'closed_form', 'integrate'}, optional, keyword-only
+        How curved segments are traced (default ``'closed_form'``): the ray's exact orbit where the
+        metric has one in closed form (Schwarzschild), else the integrator; ``'integrate'`` always steps
+        the integrator, the reference the closed form is tested against (docs/architecture.md).
     batch : bool, optional, keyword-only
         In curved space, step the geodesics of many samples together in SIMD lanes (default True,
         1.5-1.9x faster). The image is bit-identical either way.
@@ -267,7 +272,8 @@ def render(
                  "pixel_sampler": pixel_sampler, "edge_samples": edge_samples, "filter": filter,
                  "filter_radius": filter_radius, "light_margin": light_margin, "pilot_tol": pilot_tol,
                  "batch": batch, "rr_depth": rr_depth, "max_steps": max_steps, "escape_radius": escape_radius,
-                 "max_drift": max_drift, "chord_tolerance": chord_tolerance}  # fmt: skip
+                 "max_drift": max_drift, "chord_tolerance": chord_tolerance,
+                 "segment_method": segment_method}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:
             options[key] = value

@@ -34,7 +34,7 @@ __all__ = ["RESUME_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "re
 #: The render options that decide what each sample adds (so a resumed image must have been rendered with
 #: the same); spp, threads, batch (bit-identical either way), progress and the limits do not.
 RESUME_SETTINGS = ("seed", "max_depth", "rr_depth", "light_sampling", "stepper", "tol", "max_steps",
-                   "escape_radius", "max_drift", "chord_tolerance", "light_connection", "lens_images",
+                   "escape_radius", "max_drift", "chord_tolerance", "segment_method", "light_connection", "lens_images",
                    "pixel_sampler", "edge_samples", "filter", "filter_radius", "aim_lights", "light_margin",
                    "pilot_tol", "crop")  # fmt: skip
 

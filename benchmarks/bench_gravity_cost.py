@@ -1,0 +1,88 @@
+"""Gravity's cost per camera sample: the shipped lit rooms timed flat, with integrated segments and with
+closed-form segments, alternately (A, B, C, A, B, C, ...) on one thread, so that the machine's drift falls
+on every variant alike.
+
+For each room (fig07: Schwarzschild, fig10d: Kerr a = 0.9, which has no closed form and integrates in
+both curved variants) it reports the CPU microseconds per sample (min and median over the repetitions),
+the curved/flat ratio of each, the integrator's steps per sample, and how far the closed-form image is from
+the integrated one at the same seed and spp (the same paths: their difference is the integrator's error,
+not noise; the mean and the median pixel).
+
+Usage: ``python benchmarks/bench_gravity_cost.py [--quick] [--rooms fig07,fig10d] [--reps 3] [--out DIR]``;
+writes ``gravity_cost.csv`` into ``--out`` (default ``benchmarks/results``) and prints the table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import warpviz as wv  # noqa: E402
+from _common import RESULTS, machine_line, source_version, write_csv  # noqa: E402
+
+ROOMS = {"fig07": "fig07_schwarzschild_cornell", "fig10d": "fig10d_kerr_cornell_a09"}
+VARIANTS = ("flat", "integrate", "closed_form")
+
+
+def run(room: str, *, size: tuple[int, int], spp: int, reps: int) -> list[dict]:
+    """Time the variants of one room alternately; one row per variant."""
+    scene = wv.load_scene(Path(__file__).resolve().parents[1] / "scenes" / f"{ROOMS[room]}.toml")
+    samples = size[0] * size[1] * spp
+    times = {v: [] for v in VARIANTS}
+    images, steps = {}, {}
+    for _ in range(reps):
+        for v in VARIANTS:
+            img = wv.render(scene, width=size[0], height=size[1], spp=spp, threads=1, edge_samples=1, progress=None,
+                            flat=v == "flat", segment_method="closed_form" if v == "flat" else v)  # fmt: skip
+            times[v].append(img.stats["seconds"] / samples * 1e6)
+            images[v] = img.rgb.astype(np.float64)
+            steps[v] = img.stats["steps"] / samples
+    a, b = images["integrate"], images["closed_form"]
+    rel = np.abs(a - b).sum(-1) / (np.abs(a).sum(-1) + 1e-12)
+    flat_min, flat_med = min(times["flat"]), statistics.median(times["flat"])
+    rows = []
+    for v in VARIANTS:
+        t_min, t_med = min(times[v]), statistics.median(times[v])
+        rows.append({
+            "room": room, "variant": v, "width": size[0], "height": size[1], "spp": spp, "reps": reps,
+            "us_per_sample_min": t_min, "us_per_sample_median": t_med,
+            "over_flat_min": t_min / flat_min, "over_flat_median": t_med / flat_med,
+            "steps_per_sample": steps[v],
+            "mean_rel_diff_vs_integrate": float(abs(images[v].mean() - a.mean()) / a.mean()) if v != "flat" else float("nan"),
+            "median_pixel_rel_diff_vs_integrate": float(np.median(rel)) if v == "closed_form" else float("nan"),
+        })  # fmt: skip
+    return rows
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="tiny frames for a smoke test (seconds)")
+    parser.add_argument("--rooms", default="fig07,fig10d", help=f"comma-separated, of {', '.join(ROOMS)}")
+    parser.add_argument("--reps", type=int, default=None, help="alternating repetitions (default 3; quick 1)")
+    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default benchmarks/results)")
+    args = parser.parse_args(argv)
+    rooms = [r.strip() for r in args.rooms.split(",") if r.strip()]
+    unknown = [r for r in rooms if r not in ROOMS]
+    if unknown:
+        parser.error(f"unknown room(s) {', '.join(unknown)}; choose from {', '.join(ROOMS)}")
+    size, spp = ((12, 9), 2) if args.quick else ((96, 72), 16)
+    reps = args.reps or (1 if args.quick else 3)
+    rows = [row for room in rooms for row in run(room, size=size, spp=spp, reps=reps)]
+    path = write_csv(args.out / "gravity_cost.csv", rows)
+    print(f"{machine_line(threads=1)}; source {source_version()}")
+    print(f"{'room':8} {'variant':12} {'us/sample min':>14} {'median':>8} {'/flat min':>10} {'median':>8} {'steps':>7}")
+    for r in rows:
+        print(f"{r['room']:8} {r['variant']:12} {r['us_per_sample_min']:14.2f} {r['us_per_sample_median']:8.2f} "
+              f"{r['over_flat_min']:10.2f} {r['over_flat_median']:8.2f} {r['steps_per_sample']:7.1f}")  # fmt: skip
+    print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

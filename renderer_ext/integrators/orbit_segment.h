@@ -1,0 +1,358 @@
+// Geodesic segments in closed form, for the static spherical metrics whose light orbits are
+// spacetime/planar_orbit.h's (Schwarzschild's cubic): the ray stays in the plane of the centre, its start
+// and its direction, where u = 1/R is an elliptic function of the azimuth phi, so any point of the segment
+// is one evaluation and nothing is integrated. The segment is searched for surfaces by bisection in phi:
+// a piece of the arc lies in the triangle of its chord and its end tangents (the orbit's curvature keeps
+// one sign), so its chord's box grown by that triangle's height h = (c/2) tan(turn/2) bounds it; a piece
+// whose box meets no primitive is done, one with h above the chord tolerance is halved, and a chord within
+// the tolerance is tested exactly against the candidates, a chord hit refined on the orbit itself
+// (curve_crossing, to ~1e-12 M). The same tolerance rule as the integrated segments (surface_hits.h),
+// with exact positions in between.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/vec3.h"
+#include "integrators/surface_hits.h"
+#include "scene/scene.h"
+#include "spacetime/geodesic.h"
+#include "spacetime/planar_orbit.h"
+
+namespace wv {
+
+// Where a closed-form segment ended: hit (prim, pos, the local-frame direction of travel), escaped (the
+// direction on the sky) or horizon.
+struct OrbitEnd {
+  int status = kNaN;
+  int prim = -1;
+  V3 pos;
+  V3 dir;
+};
+
+template <class M>
+class OrbitSegments {
+ public:
+  // M's lens polynomial must be Schwarzschild's cubic in a chart that is the user frame on one sheet, with
+  // the centre at the origin (the static observer's radial axis then points along the user radius).
+  static constexpr bool kPossible = !M::kFlat && M::kStaticSpherical && M::kUserIsChart && M::kSheets == 1;
+
+  OrbitSegments(const M& m, const Scene& sc, double chord_tol, double escape_radius)
+      : sc_(sc), chord_tol_(chord_tol), escape_radius_(escape_radius) {
+    if constexpr (kPossible) {
+      mass_ = m.spherical_lens().cubic_mass();
+      capture_ = m.capture_radius();
+    } else {
+      (void)m;
+    }
+  }
+
+  bool active() const { return mass_ > 0.0; }
+
+  // The segment of backward chart state y (at user point x = y[1..3]); false where the closed form does
+  // not apply (the caller integrates): a start at or below the capture radius, rays near the critical
+  // impact parameter or near-radial ones. dxdl is the ray's coordinate velocity dx/dlambda.
+  bool trace(const double y[8], const double dxdl[3], int sheet, int skip, double skip_dist, OrbitEnd& e) const {
+    if constexpr (!kPossible) {
+      (void)y, (void)dxdl, (void)sheet, (void)skip, (void)skip_dist, (void)e;
+      return false;
+    } else {
+      return trace_orbit(y, dxdl, sheet, skip, skip_dist, e);
+    }
+  }
+
+ private:
+  bool trace_orbit(const double y[8], const double dxdl[3], int sheet, int skip, double skip_dist, OrbitEnd& e) const {
+    const V3 X(y[1], y[2], y[3]);
+    const double r0 = length(X);
+    if (!(r0 > capture_ * (1.0 + 1e-9))) return false;
+    const V3 p(y[5], y[6], y[7]);
+    const V3 L = cross(X, p);  // the angular momentum, normal to the orbit's plane
+    const double Ln = length(L), E = std::fabs(y[4]);
+    if (!(Ln > 0.0 && E > 0.0)) return false;
+    const double b = Ln / E;
+    const bool inward = X.x * dxdl[0] + X.y * dxdl[1] + X.z * dxdl[2] < 0.0;
+    Walk w(*this, PlanarOrbit(mass_, b, 1.0 / r0, inward));
+    if (!w.orb.valid()) return false;
+    w.e1 = X * (1.0 / r0);
+    w.e2 = normalize(cross(L * (1.0 / Ln), w.e1));
+    if (!(dot(w.e2, V3(dxdl[0], dxdl[1], dxdl[2])) > 0.0)) return false;  // (phi grows along the ray)
+    w.sheet = sheet;
+    w.skip = skip;
+    w.skip_dist = skip_dist;
+    w.x0 = X;
+
+    // The part of the orbit inside the scene's bounding sphere, and how the ray ends.
+    const double u0 = 1.0 / r0, uR = 1.0 / (sc_.bound_radius * (1.0 + 1e-9) + 1e-12);
+    const double ucap = 1.0 / capture_;
+    double start = u0 >= uR ? 0.0 : w.orb.phi_of(uR, false), end;
+    const double to_capture = w.orb.phi_of(ucap, false);
+    if (std::isfinite(to_capture)) {
+      end = to_capture;  // falls in (or dips below the capture radius, which the integrator absorbs too)
+      e.status = kHorizon;
+    } else {
+      end = w.orb.phi_of(uR, true);
+      e.status = kEscaped;
+      if (w.orb.falls_in()) return false;  // (cannot happen: it reaches the capture radius)
+    }
+    int prim = -1;
+    double phi_hit = 0.0;
+    if (std::isfinite(start) && std::isfinite(end) && end > start) {
+      const OrbitPoint a = w.at(start), z = w.at(end);
+      if (!(std::isfinite(a.u) && std::isfinite(z.u))) return false;
+      if (w.piece(a, z, 0, nullptr, 0, prim, phi_hit) < 0) return false;
+    }
+    if (prim >= 0) {
+      const OrbitPoint h = w.at(phi_hit);
+      const double c = std::cos(phi_hit), s = std::sin(phi_hit);
+      const V3 radial = w.e1 * c + w.e2 * s, tangent = w.e2 * c - w.e1 * s;
+      // Travel direction in the static frame: b (-u' r + u sqrt(A) phi), A = 1 - 2M u (a unit vector:
+      // u'^2 + u^2 A = 1 / b^2).
+      e.status = kHit;
+      e.prim = prim;
+      e.pos = h.x;
+      e.dir = normalize(radial * (-h.du * b) + tangent * (h.u * std::sqrt(1.0 - 2.0 * mass_ * h.u) * b));
+      return true;
+    }
+    if (e.status == kEscaped) {
+      const double inf = w.orb.phi_of(0.0, true);
+      const double esc = w.orb.phi_of(1.0 / escape_radius_, true);
+      if (!std::isfinite(inf)) return false;
+      e.dir = w.e1 * std::cos(inf) + w.e2 * std::sin(inf);
+      e.pos = std::isfinite(esc) ? w.at(esc).x : X;
+    } else {
+      e.pos = w.at(end).x;
+    }
+    return true;
+  }
+
+  struct OrbitPoint {
+    double phi = 0.0, u = 0.0, du = 0.0;
+    double px = 0.0, py = 0.0, tx = 0.0, ty = 0.0;  // in the plane: position, unit tangent
+    V3 x, t;                                         // user frame: position, unit tangent
+  };
+
+  static constexpr int kMaxCandidates = 32;
+
+  struct Walk {
+    Walk(const OrbitSegments& segments, const PlanarOrbit& orbit) : s(segments), orb(orbit) {}
+    const OrbitSegments& s;
+    PlanarOrbit orb;
+    V3 e1, e2, x0;
+    int sheet = 1, skip = -1;
+    double skip_dist = 0.0;
+
+    OrbitPoint at(double phi) const {
+      OrbitPoint p;
+      p.phi = phi;
+      p.u = orb.u(phi, &p.du);
+      const double c = std::cos(phi), sn = std::sin(phi);
+      p.px = c / p.u;
+      p.py = sn / p.u;
+      const double tx = -sn * p.u - c * p.du, ty = c * p.u - sn * p.du;  // d/dphi of (cos, sin) / u, times u^2
+      const double tn = 1.0 / std::sqrt(tx * tx + ty * ty);
+      p.tx = tx * tn;
+      p.ty = ty * tn;
+      p.x = e1 * p.px + e2 * p.py;
+      p.t = e1 * p.tx + e2 * p.ty;
+      return p;
+    }
+    V3 pos(double phi) const {
+      const double u = orb.u(phi);
+      return (e1 * std::cos(phi) + e2 * std::sin(phi)) * (1.0 / u);
+    }
+    bool skipped(int p, V3 x) const { return p == skip && length(x - x0) < skip_dist; }
+
+    // The first hit on the arc from a to b (prim, phi): 1 hit, 0 none, -1 the walk failed. cand: the
+    // primitives the enclosing piece could not rule out (null: query the BVH).
+    int piece(const OrbitPoint& a, const OrbitPoint& b, int depth, const int* cand, int nc, int& prim,
+              double& phi_hit) const {
+      constexpr int kMaxDepth = 48;
+      // The arc turns by less than 1.47 rad (cos > 0.1) in a piece, so it lies in the triangle of its chord
+      // and end tangents: within h of the chord, and at most S long.
+      const double cr = std::fabs(a.tx * b.ty - a.ty * b.tx), dt = a.tx * b.tx + a.ty * b.ty;
+      if (b.phi - a.phi > 2.0 || !(dt > 0.1)) {
+        if (depth >= kMaxDepth) return -1;
+        return halves(a, b, depth, cand, nc, prim, phi_hit);
+      }
+      const double dx = b.px - a.px, dy = b.py - a.py;
+      const double c = std::sqrt(dx * dx + dy * dy);
+      const double h = 0.5 * c * cr / (1.0 + dt) + 1e-9 * (1.0 + std::fabs(a.px) + std::fabs(a.py) + c);
+      const double S = c * std::sqrt(2.0 / (1.0 + dt));
+      int live[kMaxCandidates];
+      int nl = 0;
+      bool overflow = false;
+      if (!cand) {
+        Box box;
+        box.extend(a.x);
+        box.extend(b.x);
+        box.lo = box.lo - V3{h, h, h};
+        box.hi = box.hi + V3{h, h, h};
+        s.sc_.bvh.overlapping(box, [&](int p) {
+          if (nl < kMaxCandidates) live[nl++] = p; else overflow = true;
+        });
+        if (overflow) return crowded(a, b, depth, h, prim, phi_hit);
+      } else {
+        for (int k = 0; k < nc; ++k) live[nl++] = cand[k];
+      }
+      // Rule out what the piece cannot meet, and find where it crosses a plane it crosses once.
+      const double kappa = orb.curvature_bound(std::max(a.u, b.u), a.du > 0.0 && b.du < 0.0);
+      const double bend = 0.5 * kappa * S * S;
+      int keep[kMaxCandidates];
+      int nk = 0, unresolved = 0, best = -1;
+      double best_phi = INFINITY;
+      for (int k = 0; k < nl; ++k) {
+        const int p = live[k];
+        if (s.sc_.prims[p].sheet != sheet) continue;
+        const V3* n = s.sc_.plane_normal(p);
+        if (!n) {  // a sphere: the arc stays within h of its chord
+          const Sphere& sp = s.sc_.spheres[s.sc_.prims[p].index];
+          const V3 d = b.x - a.x;
+          const double w = std::max(0.0, std::min(1.0, dot(sp.center - a.x, d) / std::max(dot(d, d), 1e-300)));
+          const double near = length(a.x + d * w - sp.center);
+          const double far = std::max(length(a.x - sp.center), length(b.x - sp.center));
+          if (near - h > sp.radius || far + h < sp.radius) continue;
+          keep[nk++] = p;
+          ++unresolved;
+          continue;
+        }
+        // A plane: f, the signed distance, is linear along the chord and has |f''| <= kappa along the
+        // arc (unit speed), with f' = n.t at the ends.
+        const double fa = s.sc_.implicit_at(p, a.x), fb = s.sc_.implicit_at(p, b.x);
+        if (std::min(fa, fb) > h || std::max(fa, fb) < -h) continue;
+        const double da = dot(*n, a.t), db = dot(*n, b.t);
+        if ((fa > 0.0 && fa + da * S - bend > 0.0) || (fa < 0.0 && fa + da * S + bend < 0.0) ||
+            (fb > 0.0 && fb - db * S - bend > 0.0) || (fb < 0.0 && fb - db * S + bend < 0.0))
+          continue;
+        if ((fa < 0.0) != (fb < 0.0) && da * db > 0.0) {
+          // One crossing (f' keeps its sign: the tangent turns by less than pi). It lies within
+          // h (1 + |chord| / |fa - fb|) of the chord's: if the primitive is farther than that from the
+          // chord's crossing it is missed; else the crossing is found on the orbit and tested against
+          // the primitive's edges by a short chord through it along the normal.
+          const V3 d = b.x - a.x;
+          const V3 pc = a.x + d * (fa / (fa - fb));
+          const double reach = h * (1.0 + length(d) / std::fabs(fa - fb)) + 1e-9 * (1.0 + length(pc));
+          if (s.sc_.plane_gap(p, pc) > reach) continue;
+          keep[nk++] = p;
+          const double th = plane_crossing(p, *n, a.phi, fa, b.phi, fb, 1e-12 * (1.0 + length(a.x) + c));
+          const V3 x = pos(th);
+          const double eps = 1e-6 * (1.0 + length(x));
+          const V3 foot = x - *n * s.sc_.implicit_at(p, x);
+          double t;
+          if (th < best_phi && s.sc_.intersect_prim(p, foot + *n * eps, *n * (-2.0 * eps), 0.0, 1.0, t) &&
+              !skipped(p, x)) {
+            best_phi = th;
+            best = p;
+          }
+          continue;
+        }
+        keep[nk++] = p;
+        ++unresolved;
+      }
+      if (unresolved == 0) {
+        if (best < 0) return 0;
+        prim = best;
+        phi_hit = best_phi;
+        return 1;
+      }
+      if (h > s.chord_tol_ && depth < kMaxDepth) return halves(a, b, depth, keep, nk, prim, phi_hit);
+      return chord(a, b, keep, nk, prim, phi_hit);
+    }
+
+    // Where the orbit crosses the plane of primitive p (normal n) between lo and hi (f(lo) = flo and
+    // f(hi) = fhi of opposite signs, f' of one sign): Newton's method in phi with the orbit's exact
+    // derivative, kept inside the bracket (a secant step where it would leave it). Returns a point on the
+    // hi side of the crossing (as crossing() does) with |f| <= ftol.
+    double plane_crossing(int p, V3 n, double lo, double flo, double hi, double fhi, double ftol) const {
+      double t = lo + (hi - lo) * flo / (flo - fhi);
+      for (int it = 0; it < 60; ++it) {
+        if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
+        double du;
+        const double u = orb.u(t, &du);
+        const double c = std::cos(t), sn = std::sin(t);
+        const V3 r = e1 * c + e2 * sn, x = r * (1.0 / u);
+        const double f = s.sc_.implicit_at(p, x);
+        if ((f < 0.0) == (fhi < 0.0)) {
+          hi = t;
+          fhi = f;
+          if (std::fabs(f) <= ftol) return hi;
+        } else {
+          lo = t;
+          flo = f;
+        }
+        if (hi - lo <= 1e-15 * (1.0 + std::fabs(hi))) return hi;
+        const V3 dx = (e2 * c - e1 * sn) * (1.0 / u) - r * (du / (u * u));  // dX/dphi
+        const double df = dot(n, dx);
+        t = df != 0.0 ? t - f / df : 0.5 * (lo + hi);
+        if (!(t > lo && t < hi)) t = lo + (hi - lo) * flo / (flo - fhi);
+      }
+      return hi;
+    }
+
+    // The chord from a to b (within the chord tolerance of the arc) tested exactly against candidates;
+    // its hits, nearest first, refined on the orbit.
+    int chord(const OrbitPoint& a, const OrbitPoint& b, const int* cand, int nc, int& prim, double& phi_hit) const {
+      const V3 d = b.x - a.x;
+      const double len = length(d);
+      if (!(len > 0.0)) return 0;
+      SegmentHit hits[kMaxCandidates];
+      int nh = 0;
+      if (!cand) {  // more candidates than the lists hold: the whole BVH
+        const double skip_t = a.phi == 0.0 ? skip_dist / len : 0.0;
+        if (s.sc_.closest_hit(a.x, d, 0.0, 1.0, sheet, skip, skip_t, hits[0])) nh = 1;
+      } else {
+        for (int k = 0; k < nc; ++k) {
+          const int p = cand[k];
+          double t;
+          if (s.sc_.prims[p].sheet != sheet || !s.sc_.intersect_prim(p, a.x, d, 0.0, 1.0, t) || skipped(p, a.x + d * t))
+            continue;
+          int at_ = nh++;
+          while (at_ > 0 && hits[at_ - 1].t > t) {
+            hits[at_] = hits[at_ - 1];
+            --at_;
+          }
+          hits[at_] = {p, t};
+        }
+      }
+      for (int k = 0; k < nh; ++k) {
+        const int p = hits[k].prim;
+        V3 q;
+        auto f = [&](double phi) {
+          q = pos(phi);
+          return s.sc_.implicit_at(p, q);
+        };
+        double th;
+        if (curve_crossing(f, [&] { return 1e-12 * (1.0 + length(q)); }, a.phi, b.phi,
+                           a.phi + hits[k].t * (b.phi - a.phi), th)) {
+          if (skipped(p, pos(th))) continue;
+          prim = p;
+          phi_hit = th;
+          return 1;
+        }
+      }
+      return 0;
+    }
+
+    // A piece whose box meets more primitives than the lists hold (a mesh): halved with a BVH query per
+    // piece down to the chord tolerance, then the chord against the whole BVH.
+    int crowded(const OrbitPoint& a, const OrbitPoint& b, int depth, double h, int& prim, double& phi_hit) const {
+      if (h > s.chord_tol_ && depth < 48) return halves(a, b, depth, nullptr, 0, prim, phi_hit);
+      return chord(a, b, nullptr, 0, prim, phi_hit);
+    }
+
+    int halves(const OrbitPoint& a, const OrbitPoint& b, int depth, const int* cand, int nc, int& prim,
+               double& phi_hit) const {
+      const OrbitPoint mid = at(0.5 * (a.phi + b.phi));
+      if (!std::isfinite(mid.u)) return -1;
+      const int left = piece(a, mid, depth + 1, cand, nc, prim, phi_hit);
+      if (left != 0) return left;
+      return piece(mid, b, depth + 1, cand, nc, prim, phi_hit);
+    }
+  };
+
+  const Scene& sc_;
+  double chord_tol_, escape_radius_;
+  double mass_ = 0.0, capture_ = 0.0;
+};
+
+}  // namespace wv

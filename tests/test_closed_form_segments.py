@@ -1,0 +1,138 @@
+"""Closed-form segments (renderer_ext/spacetime/planar_orbit.h, integrators/orbit_segment.h).
+
+A Schwarzschild ray's orbit u(phi) is a Jacobi elliptic function of the azimuth: the functions against
+scipy, the orbit against the integrator at tol 1e-12 (far, near the photon sphere, falling in, escaping),
+and rendered images against ``segment_method="integrate"``: the same paths, so the same image to the
+integrator's tolerance, pixel by pixel, with the statuses and the fallbacks where the closed form does not
+apply.
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from scipy.special import ellipj, ellipk, ellipkinc
+
+import warpviz as wv
+from warpviz._native import testing
+from warpviz.scene import load_scene
+
+
+@pytest.mark.parametrize("m", [1e-8, 1e-3, 0.1, 0.5, 0.9, 0.99, 0.999, 0.9999])
+def test_jacobi_functions_and_elliptic_integrals_match_scipy(m):
+    x = np.linspace(-3.0, 12.0, 301)
+    values, K = testing.jacobi(x, m)
+    sn, cn, dn, _ = ellipj(x, m)
+    assert np.abs(values - np.stack([sn, cn, dn], axis=1)).max() < 5e-14
+    assert K == pytest.approx(ellipk(m), rel=1e-14)
+    for phi in np.linspace(0.0, np.pi, 13):
+        ref = ellipkinc(phi, m) if phi <= np.pi / 2 else 2 * ellipk(m) - ellipkinc(np.pi - phi, m)
+        assert testing.elliptic_f(phi, m) == pytest.approx(ref, rel=1e-13, abs=1e-15)
+
+
+def test_jacobi_functions_refuse_a_parameter_they_cannot_reach():
+    with pytest.raises(ValueError, match="parameter m"):
+        testing.jacobi(np.zeros(1), 0.99999)
+
+
+def traced_orbit(mass, r0, psi):
+    """The integrator's orbit from (r0, 0, 0) at angle psi from the outward radial (static frame)."""
+    ray = wv.trace(wv.Schwarzschild(mass=mass), [r0, 0.0, 0.0], [np.cos(psi), np.sin(psi), 0.0], tol=1e-12,
+                   record=True, escape_radius=400.0 * mass)  # fmt: skip
+    pts = ray.ray_points(0)
+    phi = np.unwrap(np.arctan2(pts[:, 1], pts[:, 0]))
+    return phi, np.linalg.norm(pts, axis=1), ray.status_names[0]
+
+
+@pytest.mark.parametrize(
+    "r0, psi",
+    [
+        (20.0, 2.0),     # inward, b well above critical: round the hole and out
+        (20.0, 0.7),     # outward
+        (20.0, 2.9),     # inward, b below critical: falls in
+        (20.0, 2.87),    # b just above critical (the photon sphere at 3M, a few windings close to it)
+        (8.0, 1.2),      # outward from inside the room-sized region
+        (400.0, 3.12),   # far away, weak field
+    ],
+)
+def test_the_orbit_is_the_integrators_to_1e9(r0, psi):
+    mass = 1.0
+    phi, r, status = traced_orbit(mass, r0, psi)
+    b = r0 * np.sin(psi) / np.sqrt(1.0 - 2.0 * mass / r0)
+    inward = bool(np.cos(psi) < 0.0)
+    keep = r > 2.6 * mass  # (up to the capture radius, where a backward render segment ends)
+    got = testing.planar_orbit(mass, float(b), 1.0 / r0, inward, np.ascontiguousarray(phi[keep]), np.array([1.0 / r0]))
+    assert got is not None
+    u, dudphi, _ = got
+    assert np.abs(1.0 / (u * r[keep]) - 1.0).max() < 1e-9
+    # du/dphi agrees with the orbit equation (du/dphi)^2 = 1/b^2 - u^2 + 2 M u^3
+    assert np.allclose(dudphi**2, 1.0 / b**2 - u**2 + 2.0 * mass * u**3, rtol=1e-8, atol=1e-14)
+
+
+@pytest.mark.parametrize("b, inward", [(9.0, True), (9.0, False), (4.0, True), (4.0, False), (5.25, True)])
+def test_phi_of_inverts_the_orbit(b, inward):
+    mass, u0 = 1.0, 1.0 / 10.0
+    targets = np.array([0.0, 0.02, 0.05, 0.08, 0.2])
+    u_start = testing.planar_orbit(mass, b, u0, inward, np.zeros(1), targets)
+    assert u_start is not None
+    _, _, at = u_start
+    for k, target in enumerate(targets):
+        for branch in (0, 1):
+            phi = at[k, branch]
+            if np.isfinite(phi):
+                u, _, _ = testing.planar_orbit(mass, b, u0, inward, np.array([phi]), targets)
+                assert u[0] == pytest.approx(target, abs=1e-12)
+    # above critical a ray comes back out to u = 0; below it one moving inward never does
+    assert np.isfinite(at[0, 1]) == (not inward or b > 3.0 * np.sqrt(3.0))
+
+
+def render_both(scene, **kw):
+    images = {}
+    for method in ("integrate", "closed_form"):
+        img = wv.render(scene, segment_method=method, progress=None, **kw)
+        images[method] = img
+    return images["integrate"], images["closed_form"]
+
+
+@pytest.mark.parametrize("name", ["fig07_schwarzschild_cornell", "fig08_glass_ball_black_hole"])
+def test_a_room_renders_the_same_image_in_closed_form(name):
+    """Same seeds, so the same paths: pixel by pixel, equal to the integrator's tolerance."""
+    scene = load_scene(f"scenes/{name}.toml")
+    a, b = render_both(scene, width=40, height=30, spp=4, edge_samples=1, threads=2)
+    assert b.stats["steps"] < 0.01 * a.stats["steps"]  # (a few segments start below the capture radius)
+    rel = np.abs(a.rgb - b.rgb).sum(-1) / (np.abs(a.rgb).sum(-1) + 1e-9)
+    assert np.median(rel) < 1e-5
+    assert np.mean(rel > 1e-3) < 0.02  # a path that grazes an edge may take the other side
+    assert b.rgb.mean() == pytest.approx(a.rgb.mean(), rel=2e-3)
+    ca, cb = a.stats["segments_by_status"], b.stats["segments_by_status"]
+    for status in ("hit", "escaped", "horizon"):
+        assert cb[status] == pytest.approx(ca[status], rel=0.01, abs=3)
+
+
+@pytest.mark.parametrize("name", ["fig04_einstein_ring", "fig02_accretion_disk"])
+def test_escaped_rays_see_the_same_sky_and_disks(name):
+    """The sky direction at infinity comes from the orbit's asymptote (no Born tail)."""
+    scene = load_scene(f"scenes/{name}.toml")
+    a, b = render_both(scene, width=48, height=36, spp=2, edge_samples=1, threads=2)
+    rel = np.abs(a.rgb - b.rgb).sum(-1) / (np.abs(a.rgb).sum(-1) + 1e-9)
+    assert np.median(rel) < 1e-5
+    assert np.mean(rel > 1e-3) < 0.02
+    assert b.rgb.mean() == pytest.approx(a.rgb.mean(), rel=2e-3)
+
+
+def test_other_metrics_integrate_bit_for_bit():
+    """Kerr has no closed-form orbit: both settings are the same render."""
+    scene = load_scene("scenes/fig10d_kerr_cornell_a09.toml")
+    a, b = render_both(scene, width=16, height=12, spp=2, edge_samples=1, threads=2)
+    assert np.array_equal(a.rgb, b.rgb)
+    assert a.stats["steps"] == b.stats["steps"] > 0
+
+
+def test_reissner_nordstrom_without_charge_is_schwarzschild_in_closed_form():
+    """The closed form is chosen from the lens polynomial a metric declares, not from its name."""
+    scene = load_scene("scenes/fig07_schwarzschild_cornell.toml")
+    rn = dataclasses.replace(scene, metric=wv.ReissnerNordstrom(mass=scene.metric.mass, charge=0.0))
+    a = wv.render(scene, width=16, height=12, spp=2, edge_samples=1, threads=2, progress=None)
+    b = wv.render(rn, width=16, height=12, spp=2, edge_samples=1, threads=2, progress=None)
+    assert b.stats["steps"] == a.stats["steps"] < 1000
+    assert np.allclose(a.rgb, b.rgb, rtol=1e-6, atol=1e-7)
