@@ -54,7 +54,8 @@ def run(room: str, *, size: tuple[int, int], spp: int, reps: int) -> list[dict]:
             "us_per_sample_min": t_min, "us_per_sample_median": t_med,
             "over_flat_min": t_min / flat_min, "over_flat_median": t_med / flat_med,
             "steps_per_sample": steps[v],
-            "mean_rel_diff_vs_integrate": float(abs(images[v].mean() - a.mean()) / a.mean()) if v != "flat" else float("nan"),
+            "mean_rel_diff_vs_integrate":
+                float(abs(images[v].mean() - a.mean()) / a.mean()) if v != "flat" else float("nan"),
             "median_pixel_rel_diff_vs_integrate": float(np.median(rel)) if v == "closed_form" else float("nan"),
         })  # fmt: skip
     return rows

@@ -93,7 +93,7 @@ class OrbitSegments {
     } else {
       end = w.orb.phi_of(uR, true);
       e.status = kEscaped;
-      if (w.orb.falls_in()) return false;  // (cannot happen: it reaches the capture radius)
+      if (w.orb.falls_in()) return false;  // (a ray falling in reaches the capture radius: rounding; integrate)
     }
     int prim = -1;
     double phi_hit = 0.0;
@@ -234,8 +234,8 @@ class OrbitSegments {
           const double reach = h * (1.0 + length(d) / std::fabs(fa - fb)) + 1e-9 * (1.0 + length(pc));
           if (s.sc_.plane_gap(p, pc) > reach) continue;
           keep[nk++] = p;
-          const double th = plane_crossing(p, *n, a.phi, fa, b.phi, fb, 1e-12 * (1.0 + length(a.x) + c));
-          const V3 x = pos(th);
+          V3 x;
+          const double th = plane_crossing(p, *n, a.phi, fa, b.phi, fb, 1e-12 * (1.0 + length(a.x) + c), x);
           const double eps = 1e-6 * (1.0 + length(x));
           const V3 foot = x - *n * s.sc_.implicit_at(p, x);
           double t;
@@ -261,9 +261,10 @@ class OrbitSegments {
 
     // Where the orbit crosses the plane of primitive p (normal n) between lo and hi (f(lo) = flo and
     // f(hi) = fhi of opposite signs, f' of one sign): Newton's method in phi with the orbit's exact
-    // derivative, kept inside the bracket (a secant step where it would leave it). Returns a point on the
-    // hi side of the crossing (as crossing() does) with |f| <= ftol.
-    double plane_crossing(int p, V3 n, double lo, double flo, double hi, double fhi, double ftol) const {
+    // derivative, kept inside the bracket (a secant step where it would leave it). Returns the last point
+    // (at_ its position), where |f| <= ftol: f is a distance, and it may be on either side, since the next
+    // segment starts off the surface by far more.
+    double plane_crossing(int p, V3 n, double lo, double flo, double hi, double fhi, double ftol, V3& at_) const {
       double t = lo + (hi - lo) * flo / (flo - fhi);
       for (int it = 0; it < 60; ++it) {
         if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
@@ -272,21 +273,22 @@ class OrbitSegments {
         const double c = std::cos(t), sn = std::sin(t);
         const V3 r = e1 * c + e2 * sn, x = r * (1.0 / u);
         const double f = s.sc_.implicit_at(p, x);
+        at_ = x;
+        if (std::fabs(f) <= ftol) return t;
         if ((f < 0.0) == (fhi < 0.0)) {
           hi = t;
           fhi = f;
-          if (std::fabs(f) <= ftol) return hi;
         } else {
           lo = t;
           flo = f;
         }
-        if (hi - lo <= 1e-15 * (1.0 + std::fabs(hi))) return hi;
+        if (hi - lo <= 1e-15 * (1.0 + std::fabs(hi))) return t;
         const V3 dx = (e2 * c - e1 * sn) * (1.0 / u) - r * (du / (u * u));  // dX/dphi
         const double df = dot(n, dx);
         t = df != 0.0 ? t - f / df : 0.5 * (lo + hi);
         if (!(t > lo && t < hi)) t = lo + (hi - lo) * flo / (flo - fhi);
       }
-      return hi;
+      return t;
     }
 
     // The chord from a to b (within the chord tolerance of the arc) tested exactly against candidates;
@@ -301,18 +303,8 @@ class OrbitSegments {
         const double skip_t = a.phi == 0.0 ? skip_dist / len : 0.0;
         if (s.sc_.closest_hit(a.x, d, 0.0, 1.0, sheet, skip, skip_t, hits[0])) nh = 1;
       } else {
-        for (int k = 0; k < nc; ++k) {
-          const int p = cand[k];
-          double t;
-          if (s.sc_.prims[p].sheet != sheet || !s.sc_.intersect_prim(p, a.x, d, 0.0, 1.0, t) || skipped(p, a.x + d * t))
-            continue;
-          int at_ = nh++;
-          while (at_ > 0 && hits[at_ - 1].t > t) {
-            hits[at_] = hits[at_ - 1];
-            --at_;
-          }
-          hits[at_] = {p, t};
-        }
+        auto skip_hit = [&](int p, double t) { return skipped(p, a.x + d * t); };
+        nh = chord_hits(s.sc_, a.x, d, cand, nc, sheet, skip_hit, hits);
       }
       for (int k = 0; k < nh; ++k) {
         const int p = hits[k].prim;

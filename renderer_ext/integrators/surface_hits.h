@@ -50,6 +50,27 @@ bool curve_crossing(const F& f, const Tol& ftol, double ta, double tb, double tg
   return true;
 }
 
+// The hits of the chord o + t d, t in (0, 1), on candidate primitives of `sheet`, nearest first (into hits,
+// which holds nc); skipped(p, t) drops one (the surface a ray just left). Returns their number.
+template <class Skip>
+int chord_hits(const Scene& sc, V3 o, V3 d, const int* cand, int nc, int sheet, const Skip& skipped,
+               SegmentHit* hits) {
+  int nh = 0;
+  for (int c = 0; c < nc; ++c) {
+    const int p = cand[c];
+    double t;
+    if (sc.prims[p].sheet != sheet || !sc.intersect_prim(p, o, d, 0.0, 1.0, t)) continue;
+    if (skipped(p, t)) continue;
+    int at = nh++;
+    while (at > 0 && hits[at - 1].t > t) {
+      hits[at] = hits[at - 1];
+      --at;
+    }
+    hits[at] = {p, t};
+  }
+  return nh;
+}
+
 template <class M>
 struct SceneSurfaces {
   static constexpr bool kActive = true;
@@ -129,18 +150,8 @@ struct SceneSurfaces {
         if (overflow) {
           if (sc.closest_hit(pa, d, 0.0, 1.0, sa, skip_prim, skip_t, hits[0])) nh = 1;
         } else {
-          for (int c = 0; c < nc; ++c) {
-            const int p = cand[c];
-            double t;
-            if (sc.prims[p].sheet != sa || !sc.intersect_prim(p, pa, d, 0.0, 1.0, t)) continue;
-            if (p == skip_prim && t < skip_t) continue;
-            int at = nh++;
-            while (at > 0 && hits[at - 1].t > t) {
-              hits[at] = hits[at - 1];
-              --at;
-            }
-            hits[at] = {p, t};
-          }
+          auto skip_hit = [&](int p, double t) { return p == skip_prim && t < skip_t; };
+          nh = chord_hits(sc, pa, d, cand, nc, sa, skip_hit, hits);
         }
         for (int c = 0; c < nh; ++c) {
           if (refine(st, y, ynew, h, sheet, hits[c].prim, ta, tb, ta + hits[c].t * (tb - ta), theta)) {
