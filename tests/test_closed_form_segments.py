@@ -8,6 +8,7 @@ apply.
 """
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -137,3 +138,29 @@ def test_reissner_nordstrom_without_charge_is_schwarzschild_in_closed_form():
     b = wv.render(rn, width=16, height=12, spp=2, edge_samples=1, threads=2, progress=None)
     assert b.stats["steps"] == a.stats["steps"] < 1000
     assert np.allclose(a.rgb, b.rgb, rtol=1e-6, atol=1e-7)
+
+
+def test_a_mesh_in_the_room_renders_the_same_in_closed_form(tmp_path):
+    """Triangles (planes with edges) and, where a piece meets more of them than its lists hold, the whole
+    BVH per chord; a big mesh close to the camera covers many pixels."""
+    root = Path(__file__).resolve().parents[1] / "scenes"
+    text = (root / "fig07_schwarzschild_cornell.toml").read_text()
+    text += f"""
+[[objects]]
+name = "panels"
+shape = "mesh"
+file = "{(root / 'meshes' / 'satellite_panels.obj').as_posix()}"
+translate = [18.0, -40.0, -8.0]
+scale = 9.0
+rotate = [20.0, 10.0, 30.0]
+material = "red"
+"""
+    path = tmp_path / "room_with_mesh.toml"
+    path.write_text(text)
+    scene = load_scene(path)
+    a, b = render_both(scene, width=40, height=30, spp=4, edge_samples=1, threads=2)
+    assert b.stats["steps"] < 0.01 * a.stats["steps"]
+    rel = np.abs(a.rgb - b.rgb).sum(-1) / (np.abs(a.rgb).sum(-1) + 1e-9)
+    assert np.median(rel) < 1e-5
+    assert np.mean(rel > 1e-3) < 0.02
+    assert b.rgb.mean() == pytest.approx(a.rgb.mean(), rel=2e-3)
