@@ -27,13 +27,14 @@ BENCH_SUITES = {
     "time-to-clean": "bench_time_to_clean.py",
     "dask": "bench_dask.py",
     "line-element": "bench_line_element.py",
+    "gravity-cost": "bench_gravity_cost.py",
 }
 
 
 @app.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
 def bench(ctx: typer.Context) -> None:
     """Run a benchmark: `warpviz bench SUITE OPTIONS`, SUITE one of geodesics, work-precision, render, skips,
-    light-connection, mitsuba-cornell, denoise, edge-samples, time-to-clean, dask, line-element.
+    light-connection, mitsuba-cornell, denoise, edge-samples, time-to-clean, dask, line-element, gravity-cost.
 
     Without a SUITE it runs the far-observer geodesic benchmark (benchmarks/bench_geodesics.py); every
     suite takes its own options after the name, e.g. `warpviz bench --size 32` or
