@@ -15,7 +15,7 @@
 //   if it moves inward and escapes to u = 0 if outward.
 //
 // phi_of(u) is the inverse on a branch, by Carlson's R_F. Rays that start inside the photon sphere with b
-// above critical, rays within ~1e-4 of the critical b (m > 0.9999) and near-radial ones are left to the
+// above critical, rays within ~1e-8 of the critical b (m > 0.9999) and near-radial ones are left to the
 // integrator (valid() false).
 #pragma once
 
