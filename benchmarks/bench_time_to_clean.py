@@ -7,8 +7,9 @@ For each scene (default fig07 and fig10d) at ``--size`` (default 640x480):
    ``build/bench-references``) and continued with ``render(resume=)`` by up to ``--ref-time`` seconds per
    run, towards ``--ref-spp`` samples per pixel: a reference of hours is built over several runs. Their
    mean is the reference; their difference gives its own noise, which is subtracted from every MSE
-   (the measurement is unbiased however noisy the reference, but only meaningful once the reference's
-   noise is well below the target: the table says how far below).
+   (pixel by pixel: the measurement is unbiased however noisy the reference; each MSE is printed with its
+   standard error, which says whether the reference is good enough yet). ``--reference-only`` only
+   continues the references, for a background job.
 2. **The renders**: one render per entry of ``--spp`` (fresh, every core, seed 1), timed (wall clock),
    then denoised (Intel Open Image Denoise, its time added). The relative MSE is the mean squared error
    over pixels and channels divided by the squared mean of the reference, less the reference's noise.
@@ -45,16 +46,51 @@ from _common import RESULTS, machine_line, time_at_error, write_csv  # noqa: E40
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def rel_mse(image: np.ndarray, ref: np.ndarray, ref_noise: float) -> float:
-    """Mean squared error over pixels and channels over the squared mean of ``ref``, less the reference's
-    own relative noise (may be slightly below 0 when the image is as good as the reference)."""
-    mse = float(np.mean((np.asarray(image, np.float64) - ref) ** 2)) / float(np.mean(ref)) ** 2
-    return mse - ref_noise
+class Reference:
+    """The mean of two independent renders and what their difference says about its own noise.
+
+    Parameters
+    ----------
+    a, b : numpy.ndarray, shape (H, W, 3)
+        The two halves (independent seeds, equal samples).
+    spp : int
+        Samples per pixel of the smaller half.
+    """
+
+    def __init__(self, a: np.ndarray, b: np.ndarray, spp: int):
+        a, b = np.asarray(a, np.float64), np.asarray(b, np.float64)
+        self.image = 0.5 * (a + b)
+        self.scale = float(np.mean(self.image)) ** 2
+        # (a - b)^2 / 4 estimates, pixel by pixel, the squared error of the mean (a + b) / 2
+        self.noise_map = (a - b) ** 2 / 4.0
+        self.noise = float(np.mean(self.noise_map)) / self.scale
+        self.spp = spp
+
+    def rel_mse(self, image: np.ndarray) -> tuple[float, float]:
+        """The relative MSE of ``image`` and its standard error.
+
+        The squared error against the reference, less the reference's own squared error estimated from the
+        halves, pixel by pixel; summed over pixels and channels and divided by the squared mean of the
+        reference. It is unbiased however noisy the reference (the image and the halves are independent);
+        the standard error (of the per-pixel terms' mean) says how far the reference's noise still blurs it.
+
+        Parameters
+        ----------
+        image : numpy.ndarray, shape (H, W, 3)
+
+        Returns
+        -------
+        (float, float)
+            The estimate (slightly below 0 possible when the image is as good as the reference) and its
+            standard error.
+        """
+        d = ((np.asarray(image, np.float64) - self.image) ** 2 - self.noise_map) / self.scale
+        return float(np.mean(d)), float(np.std(d) / math.sqrt(d.size))
 
 
-def reference(scene: str, w: int, h: int, *, cache: Path, seconds: float, spp: int) -> tuple[np.ndarray, float, int]:
+def reference(scene: str, w: int, h: int, *, cache: Path, seconds: float, spp: int) -> Reference:
     """The reference of ``scene`` at w x h: its two halves continued by up to ``seconds`` each towards
-    ``spp``; returns (mean image, its relative noise, samples per pixel of each half)."""
+    ``spp`` samples per pixel (each run is a resumed render, so a reference of hours is built in pieces)."""
     cache.mkdir(parents=True, exist_ok=True)
     halves = []
     for k in (0, 1):
@@ -67,10 +103,7 @@ def reference(scene: str, w: int, h: int, *, cache: Path, seconds: float, spp: i
         elif prior is None:
             raise SystemExit(f"no reference {path} yet: run with --ref-time S to build it")
         halves.append(wv.Image.open(path))
-    a, b = (np.asarray(x.rgb, np.float64) for x in halves)
-    ref = 0.5 * (a + b)
-    noise = float(np.mean((a - b) ** 2)) / 4.0 / float(np.mean(ref)) ** 2
-    return ref, noise, min(int(x.metadata["spp"]) for x in halves)
+    return Reference(halves[0].rgb, halves[1].rgb, min(int(x.metadata["spp"]) for x in halves))
 
 
 def extrapolated_time(times: list[float], errors: list[float], target: float) -> float:
@@ -80,7 +113,7 @@ def extrapolated_time(times: list[float], errors: list[float], target: float) ->
     return times[i] * errors[i] / target if errors[i] > 0 else math.nan
 
 
-def measure(scene: str, w: int, h: int, spps: list[int], ref: np.ndarray, ref_noise: float, threads: int) -> list[dict]:
+def measure(scene: str, w: int, h: int, spps: list[int], ref: Reference, threads: int) -> list[dict]:
     rows = []
     for spp in spps:
         t0 = time.perf_counter()
@@ -91,9 +124,10 @@ def measure(scene: str, w: int, h: int, spps: list[int], ref: np.ndarray, ref_no
         den = img.denoise()
         t_denoise = time.perf_counter() - t0
         for method, image, seconds in (("noisy", img.rgb, t_render), ("denoised", den.denoised, t_render + t_denoise)):
+            err, se = ref.rel_mse(image)
             rows.append({"scene": scene, "width": w, "height": h, "method": method, "spp": spp,
-                         "wall_s": seconds, "rel_mse": rel_mse(image, ref, ref_noise),
-                         "noise_estimate": img.metadata["noise"], "ref_rel_noise": ref_noise})  # fmt: skip
+                         "wall_s": seconds, "rel_mse": err, "rel_mse_se": se,
+                         "noise_estimate": img.metadata["noise"], "ref_rel_noise": ref.noise})  # fmt: skip
     return rows
 
 
@@ -130,6 +164,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
                         "(default 4096; --quick 64)")  # fmt: skip
     parser.add_argument("--cache", type=Path, default=ROOT / "build" / "bench-references",
                         help="folder of the reference EXRs (kept between runs)")
+    parser.add_argument("--reference-only", action="store_true",
+                        help="only continue the references by --ref-time (no timed renders): run it in the background")
     parser.add_argument("--threads", type=int, default=0, help="render threads (default 0: every core, as a user renders)")
     parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default benchmarks/results)")
     args = parser.parse_args(argv)
@@ -142,20 +178,22 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ref_spp = args.ref_spp or (64 if args.quick else 4096)
     rows, refs = [], {}
     for scene in args.scenes.split(","):
-        ref, ref_noise, have = reference(scene, w, h, cache=args.cache, seconds=ref_time, spp=ref_spp)
-        refs[scene] = (have, ref_noise)
-        rows += measure(scene, w, h, spps, ref, ref_noise, args.threads)
+        refs[scene] = ref = reference(scene, w, h, cache=args.cache, seconds=ref_time, spp=ref_spp)
+        print(f"{scene} {w}x{h}: reference 2 x {ref.spp} spp, its relative noise {ref.noise:.2e} "
+              f"({ref.noise / args.target:.2g} of the target)", flush=True)  # fmt: skip
+        if not args.reference_only:
+            rows += measure(scene, w, h, spps, ref, args.threads)
+    if args.reference_only:
+        return []
     summary = []
-    for scene, (have, _) in refs.items():
-        summary += summarise([r for r in rows if r["scene"] == scene], args.target, have)
+    for scene, ref in refs.items():
+        summary += summarise([r for r in rows if r["scene"] == scene], args.target, ref.spp)
 
     print(machine_line(threads=args.threads))
-    for scene, (have, noise) in refs.items():
-        print(f"{scene} {w}x{h}: reference 2 x {have} spp, its relative noise {noise:.2e} "
-              f"({noise / args.target:.2g} of the target)")
-    print(f"{'scene':8s} {'method':9s} {'spp':>5s} {'wall s':>8s} {'rel MSE':>10s}")
+    print(f"{'scene':8s} {'method':9s} {'spp':>5s} {'wall s':>8s} {'rel MSE':>10s} {'± (1 s.e.)':>10s}")
     for r in rows:
-        print(f"{r['scene']:8s} {r['method']:9s} {r['spp']:5d} {r['wall_s']:8.2f} {r['rel_mse']:10.3e}")
+        print(f"{r['scene']:8s} {r['method']:9s} {r['spp']:5d} {r['wall_s']:8.2f} {r['rel_mse']:10.3e} "
+              f"{r['rel_mse_se']:10.1e}")  # fmt: skip
     print(f"time to relative MSE {args.target:g}:")
     for s in summary:
         print(f"  {s['scene']:8s} {s['method']:9s} {s['seconds_to_target']:8.1f} s ({s['how']})")

@@ -243,6 +243,27 @@ def test_time_to_clean_benchmark_quick_mode_builds_its_reference_in_pieces(tmp_p
     assert noisy[1][1] < noisy[0][1]  # more samples, less error
     assert {s["method"] for s in summary} == {"noisy", "denoised"}
     assert all(s["how"] in ("interpolated", "extrapolated", "reached by the first run", "not reached") for s in summary)
+    assert all(float(r["rel_mse_se"]) > 0 for r in rows)
+    before = wv_spp(cache)
+    assert bench_time_to_clean.main([*args, "--reference-only"]) == []  # only the references grow
+    assert wv_spp(cache) > before
+
+
+def test_time_to_clean_reference_subtracts_its_own_noise_without_bias():
+    """A reference as noisy as the image still measures the image's error: the halves' difference takes the
+    reference's noise out, pixel by pixel, and the standard error covers what is left."""
+    import bench_time_to_clean
+
+    rng = np.random.default_rng(7)
+    truth = rng.uniform(0.5, 2.0, size=(120, 160, 3))
+    sigma_ref, sigma_img = 0.3 * truth, 0.1 * truth  # heteroscedastic, the reference 9x the image's MSE
+    ref = bench_time_to_clean.Reference(truth + sigma_ref * rng.standard_normal(truth.shape),
+                                        truth + sigma_ref * rng.standard_normal(truth.shape), spp=8)
+    image = truth + sigma_img * rng.standard_normal(truth.shape)
+    exact = float(np.mean(sigma_img**2)) / float(np.mean(truth)) ** 2
+    err, se = ref.rel_mse(image)
+    assert abs(err - exact) < 4 * se and se < 0.1 * exact
+    assert abs(ref.noise - float(np.mean(sigma_ref**2)) / 2 / float(np.mean(truth)) ** 2) < 0.05 * ref.noise
 
 
 def wv_spp(cache: Path) -> int:
