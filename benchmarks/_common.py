@@ -15,7 +15,8 @@ import os
 import platform
 import subprocess
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -229,3 +230,65 @@ def pinhole_grid(position, *, size: int, half_width: float, look_at=(0.0, 0.0, 0
         t = np.tan(t * math.atan(tan_half)) / tan_half
     x, y = np.meshgrid(0.5 * n * (1.0 + t), 0.5 * n * (1.0 - t))  # pixel coordinates: x right, y down
     return pinhole_directions(camera, np.column_stack([x.ravel(), y.ravel()]), jitter=(0.0, 0.0))
+
+
+def add_cluster_options(parser, *, what: str = "the converged references") -> None:
+    """``--workers N``, ``--cluster ADDRESS`` and ``--tile PX``: render ``what`` on a Dask cluster.
+
+    A benchmark's converged references are its long part (hours at classroom size); on a cluster they are
+    the same images bit for bit (each pass's tiles are tasks, :mod:`warpviz.render.distributed`), so the
+    results do not depend on where they were rendered. The timed runs stay on this machine unless a script
+    says otherwise: they measure it.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+    what : str, optional
+        What the options send to the cluster, for the help text.
+    """
+    group = parser.add_argument_group("Dask cluster", f"render {what} on a Dask cluster "
+                                      '(pip install "warpviz[dask]"; bit-identical to a local render)')  # fmt: skip
+    group.add_argument("--workers", type=int, default=None, metavar="N",
+                       help="a local Dask cluster of N single-threaded worker processes")  # fmt: skip
+    group.add_argument("--cluster", default=None, metavar="ADDRESS",
+                       help="the running Dask scheduler at ADDRESS, e.g. tcp://10.0.0.5:8786")  # fmt: skip
+    group.add_argument("--tile", type=int, default=None, metavar="PX",
+                       help="with --workers or --cluster: tile side in pixels (default 128)")  # fmt: skip
+
+
+@contextmanager
+def cluster_render_options(args) -> Iterator[dict]:
+    """The :func:`warpviz.render` keywords that send a render through the cluster ``args`` names.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed with :func:`add_cluster_options`.
+
+    Yields
+    ------
+    dict
+        ``{}`` without ``--workers`` or ``--cluster`` (render locally, as the script would), else
+        ``client``, ``tile`` (where given) and ``threads = 1`` (one thread per task: the workers are the
+        cores). Merge it last, ``{"threads": 0, **options}``. The cluster is closed on exit.
+
+    Raises
+    ------
+    SystemExit
+        Both ``--workers`` and ``--cluster``, ``--tile`` without either, or a cluster that cannot be
+        started or reached (the message says why).
+    """
+    if args.workers is None and args.cluster is None:
+        if args.tile is not None:
+            raise SystemExit("--tile is the tile size on a Dask cluster: give --workers N or --cluster ADDRESS")
+        yield {}
+        return
+    from warpviz.render.distributed import cluster_client
+
+    with ExitStack() as stack:
+        try:
+            client = stack.enter_context(cluster_client(workers=args.workers, address=args.cluster))
+        except (ImportError, ValueError) as exc:
+            raise SystemExit(f"cannot use the Dask cluster: {exc}") from None
+        print(f"Dask cluster: {len(client.nthreads())} workers, dashboard {client.dashboard_link}", flush=True)
+        yield {"client": client, "threads": 1, **({"tile": args.tile} if args.tile is not None else {})}

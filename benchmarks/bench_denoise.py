@@ -31,7 +31,7 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, machine_line, timed, write_csv  # noqa: E402
+from _common import RESULTS, add_cluster_options, cluster_render_options, machine_line, timed, write_csv  # noqa: E402
 
 SCENE = "fig07"
 
@@ -51,6 +51,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--ref-spp", type=int, default=None, help="reference samples, two halves (default 1024; --quick 32)")
     parser.add_argument("--threads", type=int, default=1, help="render threads (default 1: CPU time is per core)")
     parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default benchmarks/results)")
+    add_cluster_options(parser)
     args = parser.parse_args(argv)
     from warpviz.render.denoise import require_denoiser
 
@@ -60,7 +61,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ref_spp = args.ref_spp or (32 if args.quick else 1024)
     kw = {"width": w, "height": h, "threads": args.threads, "progress": None}
 
-    halves = [wv.render(SCENE, spp=ref_spp // 2, seed=1000 + k, aovs=[], **kw).rgb.astype(np.float64) for k in (0, 1)]
+    with cluster_render_options(args) as via:
+        halves = [wv.render(SCENE, spp=ref_spp // 2, seed=1000 + k, aovs=[], **{**kw, **via}).rgb.astype(np.float64)
+                  for k in (0, 1)]  # fmt: skip
     ref = 0.5 * (halves[0] + halves[1])
     ref_noise = float(np.mean((halves[0] - halves[1]) ** 2)) / 4.0 / float(np.mean(ref)) ** 2
 

@@ -27,23 +27,28 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, machine_line, timed, write_csv  # noqa: E402
+from _common import RESULTS, add_cluster_options, cluster_render_options, machine_line, timed, write_csv  # noqa: E402
 
 SETTINGS = (1, 2, 4, 8)
 
 
-def _render(scene: str, size, *, spp: int, seed: int, edge_samples: int):
-    img, cpu, _ = timed(lambda: wv.render(scene, width=size[0], height=size[1], spp=spp, seed=seed, threads=1,
-                                          edge_samples=edge_samples))
+def _render(scene: str, size, *, spp: int, seed: int, edge_samples: int, via: dict | None = None):
+    img, cpu, _ = timed(lambda: wv.render(scene, width=size[0], height=size[1], spp=spp, seed=seed,
+                                          edge_samples=edge_samples, **{"threads": 1, **(via or {})}))
     return img, cpu
 
 
-def measure(scene: str, *, size, spp: int, ref_spp: int, seeds: int) -> list[dict]:
-    """One row per setting of ``edge_samples`` for ``scene``."""
-    a, _ = _render(scene, size, spp=ref_spp // 2, seed=100_001, edge_samples=8)
-    b, _ = _render(scene, size, spp=ref_spp // 2, seed=200_003, edge_samples=8)
+def reference(scene: str, *, size, ref_spp: int, via: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The reference of ``scene`` from two halves and, per pixel, the squared error its own noise adds
+    (``via``: render keywords that send the halves to a Dask cluster)."""
+    a, _ = _render(scene, size, spp=ref_spp // 2, seed=100_001, edge_samples=8, via=via)
+    b, _ = _render(scene, size, spp=ref_spp // 2, seed=200_003, edge_samples=8, via=via)
     a, b = a.rgb.astype(np.float64), b.rgb.astype(np.float64)
-    ref, noise = 0.5 * (a + b), (a - b) ** 2 / 4.0
+    return 0.5 * (a + b), (a - b) ** 2 / 4.0
+
+
+def measure(scene: str, *, size, spp: int, ref: np.ndarray, noise: np.ndarray, ref_spp: int, seeds: int) -> list[dict]:
+    """One row per setting of ``edge_samples`` for ``scene``, against its reference."""
     scale = float(ref.mean()) ** 2
     rows = []
     for es in SETTINGS:
@@ -66,13 +71,17 @@ def main(argv=None) -> list[dict]:
     p.add_argument("--quick", action="store_true", help="tiny frames and references (seconds; for tests)")
     p.add_argument("--scenes", default="fig02,fig04,fig07", help="comma-separated shipped scenes")
     p.add_argument("--out", type=Path, default=RESULTS)
+    add_cluster_options(p)
     args = p.parse_args(argv)
     cfg = ({"size": (12, 9), "spp": 2, "ref_spp": 16, "seeds": 1} if args.quick else
            {"size": (48, 36), "spp": 16, "ref_spp": 1024, "seeds": 3})  # fmt: skip
     print(machine_line(threads=1))
+    scenes = [s.strip() for s in args.scenes.split(",") if s.strip()]
+    with cluster_render_options(args) as via:  # the references on a Dask cluster where asked
+        refs = {scene: reference(scene, size=cfg["size"], ref_spp=cfg["ref_spp"], via=via) for scene in scenes}
     rows = []
-    for scene in (s.strip() for s in args.scenes.split(",") if s.strip()):
-        rows += measure(scene, **cfg)
+    for scene in scenes:
+        rows += measure(scene, **cfg, ref=refs[scene][0], noise=refs[scene][1])
     path = write_csv(args.out / "edge_samples.csv", rows)
     print(f"{'scene':8s} {'edge':>4s} {'pixels':>6s} {'cpu s':>7s} {'rel MSE':>9s} {'eff':>9s} {'over off':>8s}")
     for r in rows:

@@ -48,7 +48,7 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, machine_line, timed, write_csv  # noqa: E402
+from _common import RESULTS, add_cluster_options, cluster_render_options, machine_line, timed, write_csv  # noqa: E402
 
 #: Estimators: name -> render options.
 ESTIMATORS = {
@@ -69,19 +69,20 @@ def _scene(room: str) -> str:
     return room.split()[0]
 
 
-def _render(room: str, cfg: dict, *, spp: int, seed: int, max_depth: int | None = None, **options):
-    kw = {"width": cfg["size"][0], "height": cfg["size"][1], "threads": 1, "flat": ROOMS[room]}
+def _render(room: str, cfg: dict, *, spp: int, seed: int, max_depth: int | None = None, via: dict | None = None,
+            **options):
+    kw = {"width": cfg["size"][0], "height": cfg["size"][1], "threads": 1, "flat": ROOMS[room], **(via or {})}
     if max_depth is not None:
         kw["max_depth"] = max_depth
     img, cpu, _ = timed(lambda: wv.render(_scene(room), spp=spp, seed=seed, **kw, **options))
     return img.rgb.astype(np.float64), cpu
 
 
-def reference(room: str, cfg: dict, *, max_depth: int | None = None):
+def reference(room: str, cfg: dict, *, max_depth: int | None = None, via: dict | None = None):
     """The reference frame from two halves, the MSE its own noise adds, and the mask of pixels that see
-    no emitter directly."""
-    a, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=100_001, max_depth=max_depth)
-    b, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=200_003, max_depth=max_depth)
+    no emitter directly (``via``: render keywords that send the halves to a Dask cluster)."""
+    a, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=100_001, max_depth=max_depth, via=via)
+    b, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=200_003, max_depth=max_depth, via=via)
     direct, _ = _render(room, cfg, spp=64, seed=7, max_depth=1, edge_samples=1)  # the camera segment alone
     return 0.5 * (a + b), (a - b) ** 2 / 4.0, direct.max(axis=2) <= 0.0
 
@@ -124,16 +125,20 @@ def main(argv=None) -> list[dict]:
     p.add_argument("--quick", action="store_true", help="tiny frames and references (seconds; for tests)")
     p.add_argument("--out", type=Path, default=RESULTS)
     p.add_argument("--rooms", default=",".join(ROOMS), help="comma-separated subset of " + ", ".join(ROOMS))
+    add_cluster_options(p)
     args = p.parse_args(argv)
     cfg = ({"size": (12, 9), "spp": 4, "ref_spp": 32, "seeds": 1, "rounds": 2} if args.quick else
            {"size": (48, 36), "spp": 16, "ref_spp": 1024, "seeds": 3, "rounds": 5})  # fmt: skip
     print(machine_line(threads=1))
     rows = []
     rooms = [r.strip() for r in args.rooms.split(",") if r.strip()]
+    unknown = [room for room in rooms if room not in ROOMS]
+    if unknown:
+        raise SystemExit(f"unknown room {unknown[0]!r} (known: {', '.join(ROOMS)})")
+    with cluster_render_options(args) as via:  # the references (their halves) on a cluster where asked
+        refs = {room: (reference(room, cfg, via=via), reference(room, cfg, max_depth=2, via=via)) for room in rooms}
     for room in rooms:
-        if room not in ROOMS:
-            raise SystemExit(f"unknown room {room!r} (known: {', '.join(ROOMS)})")
-        ref, noise, mask = reference(room, cfg)
+        (ref, noise, mask), direct_ref = refs[room]
         estimators = ["lens"] if ROOMS[room] else list(ESTIMATORS)
         for est in estimators:
             rows.append(measure(room, cfg, est, ref, noise, mask))
@@ -147,7 +152,7 @@ def main(argv=None) -> list[dict]:
                 lens[f"over_brute{which}_interleaved_min"] = gain / float(ratios.max())
                 lens[f"over_brute{which}_interleaved_median"] = gain / float(np.median(ratios))
         # direct light alone
-        dref, dnoise, dmask = reference(room, cfg, max_depth=2)
+        dref, dnoise, dmask = direct_ref
         for est in ["lens"] if ROOMS[room] else ["lens", "lens, no edge", "lens, jitter", "aimed, jitter", "brute"]:
             rows.append(measure(room, cfg, est, dref, dnoise, dmask, max_depth=2))
     for r in rows:

@@ -43,7 +43,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import warpviz as wv  # noqa: E402
-from _common import RESULTS, machine_line, pyplot, time_at_error, timed, write_csv  # noqa: E402
+from _common import (RESULTS, add_cluster_options, cluster_render_options, machine_line, pyplot,  # noqa: E402
+                     time_at_error, timed, write_csv)
 from _scenes import METRICS, cornell_room, mitsuba_transforms, to_mitsuba  # noqa: E402
 
 MAX_DEPTH = 6
@@ -109,11 +110,13 @@ def throughput(cfg: dict, *, threads: int) -> list[dict]:
     return rows
 
 
-def reference(scene: dict, spp: int, *, seed: int, **options) -> tuple[np.ndarray, float]:
+def reference(scene: dict, spp: int, *, seed: int, via: dict | None = None, **options) -> tuple[np.ndarray, float]:
     """A light-connection reference frame from two independent halves, and the mean squared error its
-    own noise adds to a comparison (estimated from the halves' difference: var(mean) = E[(a - b)^2] / 4)."""
-    a = wv.render(scene, spp=spp // 2, seed=seed, threads=0, max_depth=MAX_DEPTH, **options).rgb.astype(np.float64)
-    b = wv.render(scene, spp=spp // 2, seed=seed + 1, threads=0, max_depth=MAX_DEPTH, **options).rgb.astype(np.float64)
+    own noise adds to a comparison (estimated from the halves' difference: var(mean) = E[(a - b)^2] / 4).
+    ``via``: render keywords that send the halves to a Dask cluster (default: every core here)."""
+    kw = {"threads": 0, "max_depth": MAX_DEPTH, **options, **(via or {})}
+    a = wv.render(scene, spp=spp // 2, seed=seed, **kw).rgb.astype(np.float64)
+    b = wv.render(scene, spp=spp // 2, seed=seed + 1, **kw).rgb.astype(np.float64)
     return 0.5 * (a + b), float(np.mean((a - b) ** 2)) / 4.0
 
 
@@ -147,13 +150,13 @@ ESTIMATORS = {
 }
 
 
-def light_connection(cfg: dict, *, threads: int) -> list[dict]:
+def light_connection(cfg: dict, *, threads: int, via: dict | None = None) -> list[dict]:
     """Relative RMSE against a reference at equal spp and its CPU time, for each estimator (``no margin``
     in curved rooms only), flat and curved."""
     rows = []
     for name, ref_spp in cfg["ref_spp"].items():
         scene = room(name, cfg["size"])
-        ref, ref_mse = reference(scene, ref_spp, seed=10_001)
+        ref, ref_mse = reference(scene, ref_spp, seed=10_001, via=via)
         scale = float(ref.mean())
         for estimator, options in ESTIMATORS.items():
             if estimator == "no margin" and name == "flat":
@@ -188,7 +191,7 @@ def light_summary(rows: list[dict], cfg: dict) -> list[dict]:
     return out
 
 
-def image_precision(cfg: dict, *, threads: int) -> list[dict]:
+def image_precision(cfg: dict, *, threads: int, via: dict | None = None) -> list[dict]:
     """Per-pixel error of frames against a dop853 tol 1e-12 frame (same seed and spp) against CPU time.
 
     The pilot geodesics that aim light samples are traced at the frame's tolerance here (``pilot_tol``),
@@ -197,8 +200,9 @@ def image_precision(cfg: dict, *, threads: int) -> list[dict]:
     rows = []
     for name in cfg["scenes"]:
         scene = room(name, cfg["size"])
-        ref = wv.render(scene, spp=cfg["spp"], seed=3, threads=0, max_depth=MAX_DEPTH, stepper="dop853",
-                        tol=1e-12, pilot_tol=1e-12, segment_method="integrate").rgb.astype(np.float64)  # fmt: skip
+        ref = wv.render(scene, spp=cfg["spp"], seed=3, max_depth=MAX_DEPTH, stepper="dop853", tol=1e-12,
+                        pilot_tol=1e-12, segment_method="integrate",
+                        **{"threads": 0, **(via or {})}).rgb.astype(np.float64)  # fmt: skip
         scale = float(ref.mean())
         # the integrators at each tolerance, then the closed-form segments (where the metric has them; their
         # pilots at 1e-12 so that only the segments differ from the reference)
@@ -377,6 +381,7 @@ def main(argv=None) -> dict[str, list[dict]]:
                     help="render threads of the timed runs (default 1; references and fig07 use every core)")
     ap.add_argument("--no-mitsuba", action="store_true", help="skip the Mitsuba 3 comparison")
     ap.add_argument("--no-plots", action="store_true", help="write the CSV files only")
+    add_cluster_options(ap)
     args = ap.parse_args(argv)
     cfg = QUICK if args.quick else FULL
     out = args.out
@@ -389,28 +394,29 @@ def main(argv=None) -> dict[str, list[dict]]:
         print(f"{r['scene']:<15} {str(r['light_sampling']):<11} {r['samples_per_s_per_core']:>14.0f} "
               f"{r['steps_per_sample']:>12.1f} {r['curved_over_flat']:>11.4f}")  # fmt: skip
 
-    lc = light_connection(cfg["light"], threads=args.threads)
-    ls = light_summary(lc, cfg["light"])
-    print(f"\n{'scene':<15} {'estimator':<17} {'spp':>4} {'cpu s':>7} {'rel RMSE':>9}")
-    for r in lc:
-        print(f"{r['scene']:<15} {r['estimator']:<17} {r['spp']:>4} {r['cpu_s']:>7.2f} {r['rel_rmse']:>9.4f}")
-    for r in ls:
-        print(f"{r['scene']}: brute force needs {r['brute_force_time_for_equal_error']:.1f}x the time of the light "
-              f"connection for equal RMSE (RMSE {r['rmse_ratio_at_equal_time']:.2f}x at equal time); "
-              f"{100 * r['light_segments_reaching_light']:.0f}% of light connections reach the light")  # fmt: skip
-        if math.isfinite(r["no_margin_time_for_equal_error"]):
-            print(f"{r['scene']}: without the light margin the light connection needs "
-                  f"{r['no_margin_time_for_equal_error']:.2f}x the time for equal RMSE")
+    with cluster_render_options(args) as via:  # the references on a Dask cluster where asked; timed runs here
+        lc = light_connection(cfg["light"], threads=args.threads, via=via)
+        ls = light_summary(lc, cfg["light"])
+        print(f"\n{'scene':<15} {'estimator':<17} {'spp':>4} {'cpu s':>7} {'rel RMSE':>9}")
+        for r in lc:
+            print(f"{r['scene']:<15} {r['estimator']:<17} {r['spp']:>4} {r['cpu_s']:>7.2f} {r['rel_rmse']:>9.4f}")
+        for r in ls:
+            print(f"{r['scene']}: brute force needs {r['brute_force_time_for_equal_error']:.1f}x the time of the light "
+                  f"connection for equal RMSE (RMSE {r['rmse_ratio_at_equal_time']:.2f}x at equal time); "
+                  f"{100 * r['light_segments_reaching_light']:.0f}% of light connections reach the light")  # fmt: skip
+            if math.isfinite(r["no_margin_time_for_equal_error"]):
+                print(f"{r['scene']}: without the light margin the light connection needs "
+                      f"{r['no_margin_time_for_equal_error']:.2f}x the time for equal RMSE")
 
-    wp = image_precision(cfg["precision"], threads=args.threads)
-    add_image_speedups(wp)
-    print(f"\n{'scene':<15} {'stepper':<7} {'tol':>7} {'cpu s':>7} {'samples/s/core':>14} {'rel RMSE':>9} "
-          f"{'rel MAE':>9} {'rel p99':>9} {'px off':>7} {'vs rk4':>7}")  # fmt: skip
-    for r in wp:
-        speedup = f"{r['speedup_vs_rk4']:.1f}x" if math.isfinite(r["speedup_vs_rk4"]) else "-"
-        print(f"{r['scene']:<15} {r['stepper']:<7} {r['tol']:>7.0e} {r['cpu_s']:>7.2f} "
-              f"{r['samples_per_s_per_core']:>14.0f} {r['rel_rmse']:>9.2e} {r['rel_mae']:>9.2e} {r['rel_p99']:>9.2e} "
-              f"{r['frac_pixels_off']:>7.3f} {speedup:>7}")  # fmt: skip
+        wp = image_precision(cfg["precision"], threads=args.threads, via=via)
+        add_image_speedups(wp)
+        print(f"\n{'scene':<15} {'stepper':<7} {'tol':>7} {'cpu s':>7} {'samples/s/core':>14} {'rel RMSE':>9} "
+              f"{'rel MAE':>9} {'rel p99':>9} {'px off':>7} {'vs rk4':>7}")  # fmt: skip
+        for r in wp:
+            speedup = f"{r['speedup_vs_rk4']:.1f}x" if math.isfinite(r["speedup_vs_rk4"]) else "-"
+            print(f"{r['scene']:<15} {r['stepper']:<7} {r['tol']:>7.0e} {r['cpu_s']:>7.2f} "
+                  f"{r['samples_per_s_per_core']:>14.0f} {r['rel_rmse']:>9.2e} {r['rel_mae']:>9.2e} {r['rel_p99']:>9.2e} "
+                  f"{r['frac_pixels_off']:>7.3f} {speedup:>7}")  # fmt: skip
 
     f7 = fig07(cfg["fig07"])
     print(f"\nfig07 room {f7['width']}x{f7['height']} {f7['spp']} spp on {f7['cores']} cores: "

@@ -9,7 +9,8 @@ For each scene (default fig07 and fig10d) at ``--size`` (default 640x480):
    mean is the reference; their difference gives its own noise, which is subtracted from every MSE
    (pixel by pixel: the measurement is unbiased however noisy the reference; each MSE is printed with its
    standard error, which says whether the reference is good enough yet). ``--reference-only`` only
-   continues the references, for a background job.
+   continues the references, for a background job; ``--workers N`` or ``--cluster ADDRESS`` renders
+   them (and the timed renders) on a Dask cluster, the same images bit for bit.
 2. **The renders**: one render per entry of ``--spp`` (fresh, every core, seed 1), timed (wall clock),
    then denoised (Intel Open Image Denoise, its time added). The relative MSE is the mean squared error
    over pixels and channels divided by the squared mean of the reference, less the reference's noise.
@@ -41,7 +42,7 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, machine_line, time_at_error, write_csv  # noqa: E402
+from _common import RESULTS, add_cluster_options, cluster_render_options, machine_line, time_at_error, write_csv  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -88,9 +89,10 @@ class Reference:
         return float(np.mean(d)), float(np.std(d) / math.sqrt(d.size))
 
 
-def reference(scene: str, w: int, h: int, *, cache: Path, seconds: float, spp: int) -> Reference:
+def reference(scene: str, w: int, h: int, *, cache: Path, seconds: float, spp: int, via: dict | None = None) -> Reference:
     """The reference of ``scene`` at w x h: its two halves continued by up to ``seconds`` each towards
-    ``spp`` samples per pixel (each run is a resumed render, so a reference of hours is built in pieces)."""
+    ``spp`` samples per pixel (each run is a resumed render, so a reference of hours is built in pieces);
+    ``via``: :func:`warpviz.render` keywords that send it to a Dask cluster (``_common.cluster_render_options``)."""
     cache.mkdir(parents=True, exist_ok=True)
     halves = []
     for k in (0, 1):
@@ -98,7 +100,7 @@ def reference(scene: str, w: int, h: int, *, cache: Path, seconds: float, spp: i
         kw = {"width": w, "height": h, "seed": 1000 + k, "aovs": [], "progress": None}
         prior = path if path.is_file() else None
         if seconds > 0:
-            img = wv.render(scene, spp=spp, time_limit=seconds, resume=prior, **kw)
+            img = wv.render(scene, spp=spp, time_limit=seconds, resume=prior, **kw, **(via or {}))
             img.save(path)
         elif prior is None:
             raise SystemExit(f"no reference {path} yet: run with --ref-time S to build it")
@@ -113,12 +115,13 @@ def extrapolated_time(times: list[float], errors: list[float], target: float) ->
     return times[i] * errors[i] / target if errors[i] > 0 else math.nan
 
 
-def measure(scene: str, w: int, h: int, spps: list[int], ref: Reference, threads: int) -> list[dict]:
+def measure(scene: str, w: int, h: int, spps: list[int], ref: Reference, threads: int, via: dict | None = None) -> list[dict]:
     rows = []
+    workers = len(via["client"].nthreads()) if via else 0
     for spp in spps:
         t0 = time.perf_counter()
-        img = wv.render(scene, width=w, height=h, spp=spp, seed=1, threads=threads, progress=None,
-                        aovs=["albedo", "albedo_normal"])  # fmt: skip
+        img = wv.render(scene, width=w, height=h, spp=spp, seed=1, progress=None, aovs=["albedo", "albedo_normal"],
+                        **{"threads": threads, **(via or {})})  # fmt: skip
         t_render = time.perf_counter() - t0
         t0 = time.perf_counter()
         den = img.denoise()
@@ -126,7 +129,7 @@ def measure(scene: str, w: int, h: int, spps: list[int], ref: Reference, threads
         for method, image, seconds in (("noisy", img.rgb, t_render), ("denoised", den.denoised, t_render + t_denoise)):
             err, se = ref.rel_mse(image)
             rows.append({"scene": scene, "width": w, "height": h, "method": method, "spp": spp,
-                         "wall_s": seconds, "rel_mse": err, "rel_mse_se": se,
+                         "wall_s": seconds, "dask_workers": workers, "rel_mse": err, "rel_mse_se": se,
                          "noise_estimate": img.metadata["noise"], "ref_rel_noise": ref.noise})  # fmt: skip
     return rows
 
@@ -168,6 +171,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
                         help="only continue the references by --ref-time (no timed renders): run it in the background")
     parser.add_argument("--threads", type=int, default=0, help="render threads (default 0: every core, as a user renders)")
     parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default benchmarks/results)")
+    add_cluster_options(parser, what="the references and the timed renders (the time a user of that cluster waits)")
     args = parser.parse_args(argv)
     from warpviz.render.denoise import require_denoiser
 
@@ -177,12 +181,13 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ref_time = args.ref_time if args.ref_time is not None else (1.0 if args.quick else 0.0)
     ref_spp = args.ref_spp or (64 if args.quick else 4096)
     rows, refs = [], {}
-    for scene in args.scenes.split(","):
-        refs[scene] = ref = reference(scene, w, h, cache=args.cache, seconds=ref_time, spp=ref_spp)
-        print(f"{scene} {w}x{h}: reference 2 x {ref.spp} spp, its relative noise {ref.noise:.2e} "
-              f"({ref.noise / args.target:.2g} of the target)", flush=True)  # fmt: skip
-        if not args.reference_only:
-            rows += measure(scene, w, h, spps, ref, args.threads)
+    with cluster_render_options(args) as via:
+        for scene in args.scenes.split(","):
+            refs[scene] = ref = reference(scene, w, h, cache=args.cache, seconds=ref_time, spp=ref_spp, via=via)
+            print(f"{scene} {w}x{h}: reference 2 x {ref.spp} spp, its relative noise {ref.noise:.2e} "
+                  f"({ref.noise / args.target:.2g} of the target)", flush=True)  # fmt: skip
+            if not args.reference_only:
+                rows += measure(scene, w, h, spps, ref, args.threads, via)
     if args.reference_only:
         return []
     summary = []

@@ -305,3 +305,45 @@ def test_gravity_cost_benchmark_times_every_variant(tmp_path):
     assert float(rows["flat"]["steps_per_sample"]) == 0.0
     assert float(rows["closed_form"]["steps_per_sample"]) < 0.1 * float(rows["integrate"]["steps_per_sample"])
     assert float(rows["closed_form"]["median_pixel_rel_diff_vs_integrate"]) < 1e-4
+
+
+def test_benchmark_references_on_a_dask_cluster_are_the_local_ones_bit_for_bit(tmp_path):
+    """--workers sends a sweep's references (and time-to-clean's timed renders) through the cluster: the
+    same images, so the same results, as on this machine."""
+    pytest.importorskip("distributed")
+    import argparse
+
+    import bench_light_connection
+    import bench_time_to_clean
+    from _common import add_cluster_options, cluster_render_options
+
+    import warpviz as wv
+
+    refs = {}
+    for where, extra in (("local", []), ("dask", ["--workers", "2", "--tile", "8"])):
+        cache = tmp_path / where
+        # spp, not the time budget, decides when a half is done, so the passes are the same everywhere
+        args = ["--quick", "--scenes", "fig07", "--ref-spp", "4", "--ref-time", "600", "--reference-only",
+                "--cache", str(cache), "--out", str(tmp_path), *extra]  # fmt: skip
+        assert bench_time_to_clean.main(args) == []
+        refs[where] = [wv.Image.open(p) for p in sorted(cache.glob("*.exr"))]
+    assert len(refs["local"]) == len(refs["dask"]) == 2
+    for a, b in zip(refs["local"], refs["dask"]):
+        np.testing.assert_array_equal(a.rgb, b.rgb)
+        assert a.metadata["spp"] == b.metadata["spp"] == 4
+
+    parser = argparse.ArgumentParser()
+    add_cluster_options(parser)
+    cfg = {"size": (12, 9), "ref_spp": 8}
+    local = bench_light_connection.reference("fig07", cfg)
+    with cluster_render_options(parser.parse_args(["--workers", "1"])) as via:
+        assert set(via) == {"client", "threads"}
+        remote = bench_light_connection.reference("fig07", cfg, via=via)
+    for x, y in zip(local, remote):
+        np.testing.assert_array_equal(x, y)
+    with pytest.raises(SystemExit, match="--tile is the tile size"), \
+            cluster_render_options(parser.parse_args(["--tile", "16"])):  # fmt: skip
+        pass
+    with pytest.raises(SystemExit, match="cannot use the Dask cluster"), \
+            cluster_render_options(parser.parse_args(["--workers", "1", "--cluster", "tcp://127.0.0.1:1"])):  # fmt: skip
+        pass
