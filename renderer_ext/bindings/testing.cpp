@@ -178,6 +178,15 @@ void bind_testing(nb::module_& m) {
       },
       "phi"_a, "m"_a, "Test hook: F(phi | m) for phi in [0, pi] (core/elliptic.h).");
   m.def(
+      "carlson_rf",
+      [](double x, double y, double z) {
+        using D3 = wv::Dual<3>;
+        const D3 r = wv::carlson_rf(D3::variable(x, 0), D3::variable(y, 1), D3::variable(z, 2));
+        return nb::make_tuple(wv::carlson_rf(x, y, z), r.v, r.d[0], r.d[1], r.d[2]);
+      },
+      "x"_a, "y"_a, "z"_a,
+      "Test hook: R_F(x, y, z) in doubles, then in duals with its gradient (value, dR/dx, dR/dy, dR/dz).");
+  m.def(
       "planar_orbit",
       [](double mass, double b, double u0, bool inward, F64In phi, F64In u_targets) -> nb::object {
         const wv::PlanarOrbit o(mass, b, u0, inward);

@@ -48,6 +48,7 @@ class OrbitSegments {
   }
 
   bool active() const { return mass_ > 0.0; }
+  double escape_radius() const { return escape_radius_; }
 
   // The segment of backward chart state y (at user point x = y[1..3]); false where the closed form does
   // not apply (the caller integrates): a start at or below the capture radius, rays near the critical
@@ -142,25 +143,42 @@ class OrbitSegments {
     int sheet = 1, skip = -1;
     double skip_dist = 0.0;
 
+    // The orbit at phi: u, du/dphi and the plane's polar directions (radial r, azimuthal a), in the user
+    // frame; the position is r / u.
+    struct Polar {
+      double u, du, c, s;
+      V3 r, a;
+      V3 x() const { return r * (1.0 / u); }
+      V3 dx() const { return a * (1.0 / u) - r * (du / (u * u)); }  // dX/dphi
+    };
+    Polar polar(double phi) const {
+      Polar q;
+      q.u = orb.u(phi, &q.du);
+      q.c = std::cos(phi);
+      q.s = std::sin(phi);
+      q.r = e1 * q.c + e2 * q.s;
+      q.a = e2 * q.c - e1 * q.s;
+      return q;
+    }
+
     OrbitPoint at(double phi) const {
+      const Polar q = polar(phi);
       OrbitPoint p;
       p.phi = phi;
-      p.u = orb.u(phi, &p.du);
-      const double c = std::cos(phi), sn = std::sin(phi);
-      p.px = c / p.u;
-      p.py = sn / p.u;
-      const double tx = -sn * p.u - c * p.du, ty = c * p.u - sn * p.du;  // d/dphi of (cos, sin) / u, times u^2
+      p.u = q.u;
+      p.du = q.du;
+      p.px = q.c / q.u;
+      p.py = q.s / q.u;
+      // d/dphi of (cos, sin) / u, times u^2
+      const double tx = -q.s * q.u - q.c * q.du, ty = q.c * q.u - q.s * q.du;
       const double tn = 1.0 / std::sqrt(tx * tx + ty * ty);
       p.tx = tx * tn;
       p.ty = ty * tn;
-      p.x = e1 * p.px + e2 * p.py;
+      p.x = q.x();
       p.t = e1 * p.tx + e2 * p.ty;
       return p;
     }
-    V3 pos(double phi) const {
-      const double u = orb.u(phi);
-      return (e1 * std::cos(phi) + e2 * std::sin(phi)) * (1.0 / u);
-    }
+    V3 pos(double phi) const { return polar(phi).x(); }
     bool skipped(int p, V3 x) const { return p == skip && length(x - x0) < skip_dist; }
 
     // The first hit on the arc from a to b (prim, phi): 1 hit, 0 none, -1 the walk failed. cand: the
@@ -234,8 +252,12 @@ class OrbitSegments {
           const double reach = h * (1.0 + length(d) / std::fabs(fa - fb)) + 1e-9 * (1.0 + length(pc));
           if (s.sc_.plane_gap(p, pc) > reach) continue;
           keep[nk++] = p;
+          // Newton starts at the azimuth of the chord's crossing: the arc is within h of the chord there
+          // (a start interpolated in phi is farther off, and costs ~2 more evaluations).
+          const double cx = dot(pc, e1), cy = dot(pc, e2);
+          const double start = a.phi + std::atan2(a.px * cy - a.py * cx, a.px * cx + a.py * cy);
           V3 x;
-          const double th = plane_crossing(p, *n, a.phi, fa, b.phi, fb, 1e-12 * (1.0 + length(a.x) + c), x);
+          const double th = plane_crossing(p, *n, a.phi, fa, b.phi, fb, start, 1e-12 * (1.0 + length(a.x) + c), x);
           const double eps = 1e-6 * (1.0 + length(x));
           const V3 foot = x - *n * s.sc_.implicit_at(p, x);
           double t;
@@ -260,18 +282,18 @@ class OrbitSegments {
     }
 
     // Where the orbit crosses the plane of primitive p (normal n) between lo and hi (f(lo) = flo and
-    // f(hi) = fhi of opposite signs, f' of one sign): Newton's method in phi with the orbit's exact
-    // derivative, kept inside the bracket (a secant step where it would leave it). Returns the last point
-    // (at_ its position), where |f| <= ftol: f is a distance, and it may be on either side, since the next
-    // segment starts off the surface by far more.
-    double plane_crossing(int p, V3 n, double lo, double flo, double hi, double fhi, double ftol, V3& at_) const {
-      double t = lo + (hi - lo) * flo / (flo - fhi);
+    // f(hi) = fhi of opposite signs, f' of one sign), from start: Newton's method in phi with the orbit's
+    // exact derivative, kept inside the bracket (a secant step where it would leave it). Returns the
+    // azimuth (at_ its position) where |f| <= ftol, or the last Newton step taken along the tangent where
+    // the orbit's second derivative bounds that step's error by ftol: f is a distance, and the point may
+    // be on either side, since the next segment starts off the surface by far more.
+    double plane_crossing(int p, V3 n, double lo, double flo, double hi, double fhi, double start, double ftol,
+                          V3& at_) const {
+      double t = start > lo && start < hi ? start : lo + (hi - lo) * flo / (flo - fhi);
       for (int it = 0; it < 60; ++it) {
         if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
-        double du;
-        const double u = orb.u(t, &du);
-        const double c = std::cos(t), sn = std::sin(t);
-        const V3 r = e1 * c + e2 * sn, x = r * (1.0 / u);
+        const Polar q = polar(t);
+        const V3 x = q.x();
         const double f = s.sc_.implicit_at(p, x);
         at_ = x;
         if (std::fabs(f) <= ftol) return t;
@@ -283,8 +305,21 @@ class OrbitSegments {
           flo = f;
         }
         if (hi - lo <= 1e-15 * (1.0 + std::fabs(hi))) return t;
-        const V3 dx = (e2 * c - e1 * sn) * (1.0 / u) - r * (du / (u * u));  // dX/dphi
+        const V3 dx = q.dx();
         const double df = dot(n, dx);
+        if (df != 0.0) {
+          // Close enough that the Newton step's own error, |f''| step^2 / 2 (f'' from the orbit equation
+          // u'' = 3 M u^2 - u), is within the tolerance: take the step along the tangent line instead of
+          // evaluating the orbit once more to confirm it.
+          const double step = -f / df, iu = 1.0 / q.u, ddu = orb.ddu(q.u);
+          const V3 ddx = q.r * (-iu - ddu * iu * iu + 2.0 * q.du * q.du * iu * iu * iu) -
+                         q.a * (2.0 * q.du * iu * iu);  // d2X/dphi2
+          const double next = t + step;
+          if (next > lo && next < hi && std::fabs(dot(n, ddx)) * step * step <= ftol) {
+            at_ = x + dx * step;
+            return next;
+          }
+        }
         t = df != 0.0 ? t - f / df : 0.5 * (lo + hi);
         if (!(t > lo && t < hi)) t = lo + (hi - lo) * flo / (flo - fhi);
       }

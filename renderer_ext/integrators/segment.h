@@ -56,7 +56,7 @@ class SegmentTracer {
     topt_ = o.trace;
     topt_.record = false;
     topt_.backward = true;
-    topt_.escape_radius = escape_radius(o, sc);
+    topt_.escape_radius = orbits_.escape_radius();
     closed_form_ = o.segment_method == kClosedFormSegments && orbits_.active();
   }
 

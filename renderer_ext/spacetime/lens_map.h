@@ -37,6 +37,7 @@
 
 #include "core/dual.h"
 #include "core/elliptic.h"
+#include "spacetime/light_cubic.h"
 
 namespace wv {
 
@@ -343,13 +344,27 @@ class LensMap {
       inward = psi.v > 0.5 * M_PI;
       after_turn = inward;
     }
+    if (cubic_m_ > 0.0) {
+      // Schwarzschild's cubic: the periapsis in closed form (light_cubic.h) and its derivative
+      // du_t/db = -P_b / P_u = -u_t (1 - 2M u_t) / (b (1 - 3M u_t)), P = 1 - b^2 u^2 (1 - 2M u).
+      const double M = cubic_m_, uv = LightCubic{M, b.v}.periapsis();
+      if (uv > 0.0 && uv <= s_.u_inner) {
+        D1 ut(uv);
+        ut.d[0] = -uv * (1.0 - 2.0 * M * uv) / (b.v * (1.0 - 3.0 * M * uv)) * b.d[0];
+        D1 phi;
+        double root_p_b;  // sqrt(P(uB))
+        if (!cubic_phi(b, ut, after_turn, phi, root_p_b)) return false;
+        return finish(r, phi, psi, b, inward, after_turn, root_p_b, dphi_dtau);
+      }
+      if (after_turn) return false;  // (b below critical: the ray falls in; the quadrature below)
+    }
     double p[kP];
     D1 pd[kP];
     p_coefs(b * b, pd);
     for (int i = 0; i < kP; ++i) p[i] = pd[i].v;
     double ut_v = 0.0;
     bool through = false;
-    const bool turns = turning(p, b.v, ut_v, through);
+    const bool turns = cubic_m_ > 0.0 ? false : turning(p, b.v, ut_v, through);
     // Through the throat: what a throat ray must do, and what a same-sheet ray may do only after reaching B
     // (an inward ray that meets B first).
     if (case_ == kThroat ? !(turns && through) : (turns && through && after_turn)) return false;
@@ -360,10 +375,6 @@ class LensMap {
       // u_t as a function of b: one Newton step in duals from the converged root (the throat is fixed).
       D1 ut(ut_v);
       if (!through) ut = ut - peval(pd, ut) / pderiv(p, ut_v);
-      if (cubic_m_ > 0.0 && !through) {
-        if (!cubic_phi(b, ut, after_turn, phi, root_p_b)) return false;
-        return finish(r, phi, psi, b, inward, after_turn, root_p_b, dphi_dtau);
-      }
       // Taylor shift: P(ut - e) = sum c_j e^j; D(e) = sum_{j >= 1} c_j e^(j - 1).
       D1 sh[kP];
       for (int i = 0; i < kP; ++i) sh[i] = pd[i];

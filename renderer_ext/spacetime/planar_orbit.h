@@ -24,6 +24,7 @@
 
 #include "core/elliptic.h"
 #include "spacetime/lens_map.h"
+#include "spacetime/light_cubic.h"
 
 namespace wv {
 
@@ -34,30 +35,13 @@ class PlanarOrbit {
   // The orbit through u0 = 1/R0 with impact parameter b, moving inward (u increasing) or outward.
   PlanarOrbit(double M, double b, double u0, bool inward) : M_(M), b_(b), inward_(inward) {
     if (!(M > 0.0 && b > 0.0 && u0 > 0.0) || b * u0 < 1e-6) return;
-    // Roots of v^3 - v^2 + beta = 0, v = 2M u, beta = (2M/b)^2; three real roots for beta < 4/27.
-    const double beta = 4.0 * M * M / (b * b);
+    const LightCubic cubic{M, b};
     const double inv2M = 0.5 / M;
-    auto P = [&](double u) { return (2.0 * M * u - 1.0) * u * u + 1.0 / (b * b); };
-    auto dP = [&](double u) { return (6.0 * M * u - 2.0) * u; };
-    auto polish = [&](double u) {  // Newton steps on P where they improve it
-      for (int it = 0; it < 3; ++it) {
-        const double d = dP(u);
-        if (d == 0.0) break;
-        const double n = u - P(u) / d;
-        if (!(std::fabs(P(n)) < std::fabs(P(u)))) break;
-        u = n;
-      }
-      return u;
-    };
-    if (beta < 4.0 / 27.0) {
+    if (cubic.three_roots()) {
       three_ = true;
-      const double c = 1.0 - 13.5 * beta;  // cos theta of the trigonometric solution, w = v - 1/3
-      const double th = std::acos(std::max(-1.0, std::min(1.0, c)));
-      double v[3];
-      for (int k = 0; k < 3; ++k) v[k] = 1.0 / 3.0 + (2.0 / 3.0) * std::cos(th / 3.0 - 2.0 * M_PI * k / 3.0);
-      std::sort(v, v + 3);
-      u1_ = polish(v[0] * inv2M);
-      u2_ = polish(v[1] * inv2M);
+      const double th = cubic.theta();
+      u1_ = cubic.polish(LightCubic::trig_root(th, 2) * inv2M);
+      u2_ = cubic.polish(LightCubic::trig_root(th, 1) * inv2M);
       u3_ = inv2M - u1_ - u2_;
       if (!(u1_ < 0.0 && u2_ > 0.0 && u3_ > u2_)) return;
       if (u0 > u2_ * (1.0 + 1e-12)) return;  // inside the photon sphere: not this branch
@@ -70,13 +54,9 @@ class PlanarOrbit {
       psi0_ = inward ? psi_in : 2.0 * K_ - psi_in;
       dir_ = 1.0;
     } else {
-      // Cardano for the one real root of w^3 + p w + q = 0, p = -1/3, q = beta - 2/27.
-      const double q = beta - 2.0 / 27.0, D = 0.25 * q * q - 1.0 / 729.0;
-      const double sD = std::sqrt(std::max(0.0, D));
-      const double w = std::cbrt(-0.5 * q + sD) + std::cbrt(-0.5 * q - sD);
-      u1_ = polish((w + 1.0 / 3.0) * inv2M);
+      u1_ = cubic.single_root();
       if (!(u1_ < 0.0)) return;
-      const double A2 = dP(u1_) / (2.0 * M);
+      const double A2 = cubic.dP(u1_) / (2.0 * M);
       if (!(A2 > 0.0)) return;
       A_ = std::sqrt(A2);
       const double mu = 0.5 * (inv2M - u1_);  // real part of the complex pair (the roots sum to 1 / 2M)
@@ -92,7 +72,6 @@ class PlanarOrbit {
   }
 
   bool valid() const { return valid_; }
-  double b() const { return b_; }
   // Whether the ray reaches a periapsis ahead or moves inward until it falls in (b below critical).
   bool falls_in() const { return !three_ && inward_; }
 
@@ -116,6 +95,9 @@ class PlanarOrbit {
     if (dudphi) *dudphi = dir_ * gamma_ * 2.0 * A_ * j.sn * j.dn * den * den;
     return u1_ + A_ * (1.0 - j.cn) * den;
   }
+
+  // d^2u/dphi^2 at u (the orbit equation, whatever the branch).
+  double ddu(double u) const { return 3.0 * M_ * u * u - u; }
 
   // The azimuth at which the ray is at u on its inward (u increasing) or outward branch; NaN where that
   // branch does not reach u or reached it behind the start.
