@@ -12,7 +12,9 @@ For each scene (default fig07 and fig10d) at ``--size`` (default 640x480):
    continues the references, for a background job; ``--workers N`` or ``--cluster ADDRESS`` renders
    them (and the timed renders) on a Dask cluster, the same images bit for bit.
 2. **The renders**: one render per entry of ``--spp`` (fresh, every core, seed 1), timed (wall clock),
-   then denoised (Intel Open Image Denoise, its time added). The relative MSE is the mean squared error
+   then denoised (Intel Open Image Denoise, its time added); each error over every pixel and over the
+   pixels that do not see a light directly (``light_pixels``: the lamp's radiance dominates an MSE over
+   all of them, and the denoiser's error is mostly there). The relative MSE is the mean squared error
    over pixels and channels divided by the squared mean of the reference, less the reference's noise.
 3. **Time to the target**: interpolated log-log on each method's runs (``time_at_error``); where the
    largest run is still above the target the time is extrapolated with MSE proportional to 1 / time (the
@@ -40,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 import warpviz as wv
+from warpviz.render.denoise import DENOISE_AOVS
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import RESULTS, add_cluster_options, cluster_render_options, machine_line, time_at_error, write_csv  # noqa: E402
@@ -67,8 +70,8 @@ class Reference:
         self.noise = float(np.mean(self.noise_map)) / self.scale
         self.spp = spp
 
-    def rel_mse(self, image: np.ndarray) -> tuple[float, float]:
-        """The relative MSE of ``image`` and its standard error.
+    def rel_mse(self, image: np.ndarray, mask: np.ndarray | None = None) -> tuple[float, float]:
+        """The relative MSE of ``image`` and its standard error, over every pixel or those of ``mask``.
 
         The squared error against the reference, less the reference's own squared error estimated from the
         halves, pixel by pixel; summed over pixels and channels and divided by the squared mean of the
@@ -78,6 +81,8 @@ class Reference:
         Parameters
         ----------
         image : numpy.ndarray, shape (H, W, 3)
+        mask : numpy.ndarray of bool, shape (H, W), optional
+            Only these pixels, and the squared mean of the reference over them.
 
         Returns
         -------
@@ -85,8 +90,20 @@ class Reference:
             The estimate (slightly below 0 possible when the image is as good as the reference) and its
             standard error.
         """
-        d = ((np.asarray(image, np.float64) - self.image) ** 2 - self.noise_map) / self.scale
+        d = (np.asarray(image, np.float64) - self.image) ** 2 - self.noise_map
+        scale = self.scale
+        if mask is not None:
+            d, scale = d[mask], float(np.mean(self.image[mask])) ** 2
+        d = d / scale
         return float(np.mean(d)), float(np.std(d) / math.sqrt(d.size))
+
+
+def light_pixels(scene: str, w: int, h: int) -> np.ndarray:
+    """(H, W) bool: the pixels whose camera rays reach a light directly (the lamp, its lensed images, a sky),
+    from a render of the camera segment alone. Their radiance is 10-100x the room's, so they weigh most in
+    an MSE over all pixels; the room a viewer looks at is the rest."""
+    img = wv.render(scene, width=w, height=h, spp=4, seed=7, max_depth=1, edge_samples=1, aovs=[], progress=None)
+    return img.rgb.max(axis=2) > 0.0
 
 
 def reference(scene: str, w: int, h: int, *, cache: Path, seconds: float, spp: int, via: dict | None = None) -> Reference:
@@ -117,10 +134,11 @@ def extrapolated_time(times: list[float], errors: list[float], target: float) ->
 
 def measure(scene: str, w: int, h: int, spps: list[int], ref: Reference, threads: int, via: dict | None = None) -> list[dict]:
     rows = []
+    off = ~light_pixels(scene, w, h)
     workers = len(via["client"].nthreads()) if via else 0
     for spp in spps:
         t0 = time.perf_counter()
-        img = wv.render(scene, width=w, height=h, spp=spp, seed=1, progress=None, aovs=["albedo", "albedo_normal"],
+        img = wv.render(scene, width=w, height=h, spp=spp, seed=1, progress=None, aovs=list(DENOISE_AOVS),
                         **{"threads": threads, **(via or {})})  # fmt: skip
         t_render = time.perf_counter() - t0
         t0 = time.perf_counter()
@@ -128,28 +146,33 @@ def measure(scene: str, w: int, h: int, spps: list[int], ref: Reference, threads
         t_denoise = time.perf_counter() - t0
         for method, image, seconds in (("noisy", img.rgb, t_render), ("denoised", den.denoised, t_render + t_denoise)):
             err, se = ref.rel_mse(image)
+            err_off, se_off = ref.rel_mse(image, off)
             rows.append({"scene": scene, "width": w, "height": h, "method": method, "spp": spp,
                          "wall_s": seconds, "dask_workers": workers, "rel_mse": err, "rel_mse_se": se,
+                         "rel_mse_off_lights": err_off, "rel_mse_off_lights_se": se_off,
+                         "light_pixels": int((~off).sum()),
                          "noise_estimate": img.metadata["noise"], "ref_rel_noise": ref.noise})  # fmt: skip
     return rows
 
 
 def summarise(rows: list[dict], target: float, ref_spp: int) -> list[dict]:
+    """Time to ``target`` per scene, method and pixels (all, or off the lights seen directly)."""
     out = []
     for scene in dict.fromkeys(r["scene"] for r in rows):
-        for method in ("noisy", "denoised"):
-            runs = [r for r in rows if r["scene"] == scene and r["method"] == method]
-            times, errors = [r["wall_s"] for r in runs], [r["rel_mse"] for r in runs]
-            t = time_at_error(times, [max(e, 1e-300) for e in errors], target)
-            how = "interpolated"
-            if math.isnan(t) and method == "noisy" and min(errors) > target:
-                t, how = extrapolated_time(times, errors, target), "extrapolated"
-            elif math.isnan(t):
-                how = "reached by the first run" if max(errors) <= target else "not reached"
-                t = min(times) if max(errors) <= target else math.nan
-            out.append({"scene": scene, "width": runs[0]["width"], "height": runs[0]["height"], "method": method,
-                        "target_rel_mse": target, "seconds_to_target": t, "how": how,
-                        "ref_spp": ref_spp, "ref_rel_noise": runs[0]["ref_rel_noise"]})  # fmt: skip
+        for pixels, key in (("all", "rel_mse"), ("off lights", "rel_mse_off_lights")):
+            for method in ("noisy", "denoised"):
+                runs = [r for r in rows if r["scene"] == scene and r["method"] == method]
+                times, errors = [r["wall_s"] for r in runs], [r[key] for r in runs]
+                t = time_at_error(times, [max(e, 1e-300) for e in errors], target)
+                how = "interpolated"
+                if math.isnan(t) and method == "noisy" and min(errors) > target:
+                    t, how = extrapolated_time(times, errors, target), "extrapolated"
+                elif math.isnan(t):
+                    how = "reached by the first run" if max(errors) <= target else "not reached"
+                    t = min(times) if max(errors) <= target else math.nan
+                out.append({"scene": scene, "width": runs[0]["width"], "height": runs[0]["height"],
+                            "method": method, "pixels": pixels, "target_rel_mse": target, "seconds_to_target": t,
+                            "how": how, "ref_spp": ref_spp, "ref_rel_noise": runs[0]["ref_rel_noise"]})  # fmt: skip
     return out
 
 
@@ -195,13 +218,14 @@ def main(argv: list[str] | None = None) -> list[dict]:
         summary += summarise([r for r in rows if r["scene"] == scene], args.target, ref.spp)
 
     print(machine_line(threads=args.threads))
-    print(f"{'scene':8s} {'method':9s} {'spp':>5s} {'wall s':>8s} {'rel MSE':>10s} {'± (1 s.e.)':>10s}")
+    print(f"{'scene':8s} {'method':9s} {'spp':>5s} {'wall s':>8s} {'rel MSE':>10s} {'± (1 s.e.)':>10s} "
+          f"{'off lights':>10s} {'± (1 s.e.)':>10s}")  # fmt: skip
     for r in rows:
         print(f"{r['scene']:8s} {r['method']:9s} {r['spp']:5d} {r['wall_s']:8.2f} {r['rel_mse']:10.3e} "
-              f"{r['rel_mse_se']:10.1e}")  # fmt: skip
+              f"{r['rel_mse_se']:10.1e} {r['rel_mse_off_lights']:10.3e} {r['rel_mse_off_lights_se']:10.1e}")  # fmt: skip
     print(f"time to relative MSE {args.target:g}:")
     for s in summary:
-        print(f"  {s['scene']:8s} {s['method']:9s} {s['seconds_to_target']:8.1f} s ({s['how']})")
+        print(f"  {s['scene']:8s} {s['method']:9s} {s['pixels']:10s} {s['seconds_to_target']:8.1f} s ({s['how']})")
     args.out.mkdir(parents=True, exist_ok=True)
     write_csv(args.out / "time_to_clean.csv", rows)
     write_csv(args.out / "time_to_clean_summary.csv", summary)

@@ -243,7 +243,10 @@ def test_time_to_clean_benchmark_quick_mode_builds_its_reference_in_pieces(tmp_p
     assert noisy[1][1] < noisy[0][1]  # more samples, less error
     assert {s["method"] for s in summary} == {"noisy", "denoised"}
     assert all(s["how"] in ("interpolated", "extrapolated", "reached by the first run", "not reached") for s in summary)
-    assert all(float(r["rel_mse_se"]) > 0 for r in rows)
+    assert all(float(r["rel_mse_se"]) > 0 and float(r["rel_mse_off_lights_se"]) > 0 for r in rows)
+    assert all(0 < int(r["light_pixels"]) < 24 * 18 for r in rows)  # fig07's lamp is in view
+    assert {(s["method"], s["pixels"]) for s in summary} == {(m, p) for m in ("noisy", "denoised")
+                                                              for p in ("all", "off lights")}  # fmt: skip
     before = wv_spp(cache)
     assert bench_time_to_clean.main([*args, "--reference-only"]) == []  # only the references grow
     assert wv_spp(cache) > before

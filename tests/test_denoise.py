@@ -4,6 +4,7 @@ clear message without the optional binding, lower error against a converged refe
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import json
 import sys
@@ -67,6 +68,66 @@ def test_albedo_is_taken_through_a_mirror():
     img = wv.render(scene, spp=4, aovs=["albedo", "albedo_normal"], threads=2)
     np.testing.assert_allclose(img.aovs["albedo"][9, 12], [0.2, 0.4, 0.8], rtol=1e-6)
     np.testing.assert_allclose(img.aovs["albedo_normal"][9, 12], [0.0, 1.0, 0.0], atol=1e-6)
+
+
+def lamp_room(metric):
+    """A closed diffuse box (no mirror or glass) with a ceiling lamp in view, around a hole or flat."""
+    return {
+        "metric": metric,
+        "camera": {"position": [0, -7, 0], "look_at": [0, 0, 0.5], "fov": 60, "width": 24, "height": 18},
+        "textures": [{"type": "constant", "color": [0.7, 0.7, 0.7]}],
+        "materials": [{"type": "diffuse", "texture": 0}, {"type": "emissive", "strength": 4.0}],
+        "shapes": [{"type": "quad", "corner": c, "edge_u": u, "edge_v": v, "material": 0} for c, u, v in (
+                      ([-5, -8, -3], [10, 0, 0], [0, 16, 0]), ([-5, -8, 4], [0, 16, 0], [10, 0, 0]),
+                      ([-5, 8, -3], [10, 0, 0], [0, 0, 7]), ([-5, -8, -3], [0, 0, 7], [0, 16, 0]),
+                      ([5, -8, -3], [0, 16, 0], [0, 0, 7]), ([-5, -8, -3], [0, 0, 7], [10, 0, 0]))]
+                  + [{"type": "quad", "corner": [-1.5, -1, 3.99], "edge_u": [0, 2, 0], "edge_v": [3, 0, 0],
+                      "material": 1}],
+    }  # fmt: skip
+
+
+@pytest.mark.parametrize("metric", [{"name": "minkowski", "params": []},
+                                    {"name": "schwarzschild", "params": [0.5]}])  # fmt: skip
+def test_emission_aov_is_what_the_camera_segment_alone_sees(metric):
+    """Without mirrors or glass a path's first hit is its first non-specular one, so the emission AOV is
+    the camera segment's own light: exactly the image of max_depth = 1 (same seeds, same first hits); the
+    lamp's pixels are nearly all emission (it reflects a little too), the walls' none."""
+    scene = lamp_room(metric)
+    img = wv.render(scene, spp=4, seed=5, threads=2, aovs=["emission"])
+    first = wv.render(scene, spp=4, seed=5, threads=2, aovs=[], max_depth=1)
+    np.testing.assert_array_equal(img.aovs["emission"], first.rgb)
+    lamp = first.rgb.max(axis=2) > 0
+    assert 0 < lamp.sum() < lamp.size
+    inside = lamp & (first.rgb.min(axis=2) >= 0.999 * first.rgb.max())  # wholly on the lamp
+    assert inside.any()
+    assert np.all(img.aovs["emission"][inside] > 0.95 * img.rgb[inside])  # the lamp's light is nearly all of it
+    assert np.all(img.aovs["emission"] <= img.rgb + 1e-6)
+    assert np.all(img.aovs["emission"][~lamp] == 0) and (img.rgb[~lamp].max(axis=1) > 0).mean() > 0.5
+
+
+def test_emission_aov_is_taken_through_a_mirror():
+    """A mirror sphere in front of the lamp room's back wall reflects the lamp: what it shows of the lamp
+    is emission (collected before the first non-specular hit), the walls it shows are not."""
+    scene = lamp_room({"name": "minkowski", "params": []})
+    scene["materials"].append({"type": "mirror"})
+    scene["shapes"].append({"type": "sphere", "center": [0, 0, -0.5], "radius": 2.0, "material": 2})
+    img = wv.render(scene, spp=4, seed=5, threads=2, aovs=["emission"])
+    first = wv.render(scene, spp=4, seed=5, threads=2, aovs=[], max_depth=1)
+    assert (img.aovs["emission"].max(axis=2) > first.rgb.max(axis=2)).any()  # the lamp in the mirror
+    assert np.all(img.aovs["emission"] <= img.rgb + 1e-6)
+
+
+@needs_oidn
+def test_denoise_leaves_the_emission_alone():
+    """rgb - emission is denoised and the emission added back: the lamp's own pixels keep their radiance."""
+    img = wv.render(lamp_room({"name": "minkowski", "params": []}), spp=4, seed=5, threads=2, denoise=True)
+    assert img.metadata["denoised"]["kept_sharp"] == "emission"
+    emission = img.aovs["emission"]
+    inside = np.abs(emission - 4.0).max(axis=2) < 1e-6
+    assert inside.any()
+    np.testing.assert_allclose(img.denoised[inside], img.rgb[inside], rtol=0.02)
+    plain = dataclasses.replace(img, aovs={k: v for k, v in img.aovs.items() if k != "emission"}).denoise()
+    assert plain.metadata["denoised"]["kept_sharp"] is None
 
 
 def test_features_never_change_the_radiance():

@@ -119,7 +119,7 @@ def test_resume_equals_the_direct_render_to_float32_rounding(tmp_path):
     np.testing.assert_array_equal(resumed.aovs["samples"], direct.aovs["samples"])
     for name in ("redshift", "status", "depth", "normal", "max_drift", "errors"):
         np.testing.assert_array_equal(resumed.aovs[name], direct.aovs[name], err_msg=name)
-    for name in ("n_steps", "albedo", "albedo_normal"):
+    for name in ("n_steps", "albedo", "albedo_normal", "emission"):
         np.testing.assert_allclose(resumed.aovs[name], direct.aovs[name], rtol=1e-6, atol=1e-7, err_msg=name)
     np.testing.assert_allclose(resumed.aovs["variance"], direct.aovs["variance"], rtol=1e-4, atol=1e-9)
     assert resumed.metadata["noise"] == pytest.approx(direct.metadata["noise"], rel=1e-5)

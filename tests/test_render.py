@@ -138,7 +138,7 @@ def test_aovs_and_stats():
     img = wv.render(room(metric("schwarzschild", 1.0), size=(12, 9)), spp=2, segment_method="integrate")
     h, w = img.shape
     assert set(img.aovs) == {"redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo",
-                             "albedo_normal", "errors", "samples", "variance"}
+                             "albedo_normal", "emission", "errors", "samples", "variance"}
     assert img.aovs["variance"].shape == (h, w, 3) and (img.aovs["variance"] >= 0).all()
     assert np.all((img.aovs["albedo"] >= 0) & (img.aovs["albedo"] <= 1))
     for name, arr in img.aovs.items():

@@ -203,11 +203,12 @@ SumsIn sums_from_dict(const nb::dict& d) {
   in.sums.steps_sum = film_data<double>(d, "steps_sum", H, W, 1, true);
   in.sums.albedo_sum = film_data<double>(d, "albedo_sum", H, W, 3, true);
   in.sums.albedo_normal_sum = film_data<double>(d, "albedo_normal_sum", H, W, 3, true);
+  in.sums.emission_sum = film_data<double>(d, "emission_sum", H, W, 3, true);
   return in;
 }
 
 // The film resolved to the image's float32 arrays (film/film.h: resolve), read in place: rgb and variance
-// (H, W, 3), errors and samples (H, W), n_steps (H, W), albedo and albedo_normal (H, W, 3) where the film
+// (H, W, 3), errors and samples (H, W), n_steps (H, W), albedo, albedo_normal and emission (H, W, 3) where the film
 // keeps them (else None), and the totals of samples and of samples with errors.
 nb::dict resolve_film(nb::dict film) {
   const SumsIn in = sums_from_dict(film);
@@ -229,6 +230,7 @@ nb::dict resolve_film(nb::dict film) {
   out["n_steps"] = opt(std::move(r.n_steps), 1);
   out["albedo"] = opt(std::move(r.albedo), 3);
   out["albedo_normal"] = opt(std::move(r.albedo_normal), 3);
+  out["emission"] = opt(std::move(r.emission), 3);
   out["samples_total"] = r.samples_total;
   out["errors_total"] = r.errors_total;
   return out;
@@ -315,7 +317,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
     const auto names = option<std::vector<std::string>>(options, "aovs");
     auto keep = [&](const char* name) { return std::find(names.begin(), names.end(), name) != names.end(); };
     o.aovs = {keep("n_steps"), keep("max_drift"), keep("redshift"), keep("status"), keep("depth"), keep("normal"),
-              keep("albedo"), keep("albedo_normal")};
+              keep("albedo"), keep("albedo_normal"), keep("emission")};
   }
   const auto stepper = stepper_kind(option<std::string>(options, "stepper"));
   if (options.contains("record_pixels") && !options["record_pixels"].is_none()) {

@@ -19,6 +19,7 @@ namespace wv {
 struct FilmAovs {
   bool n_steps = true, max_drift = true, redshift = true, status = true, depth = true, normal = true;
   bool albedo = true, albedo_normal = true;  // the denoiser's features, at the first non-specular hit
+  bool emission = true;  // the light a path collects before its first non-specular hit (kept from the denoiser)
 };
 
 struct Film {
@@ -40,6 +41,9 @@ struct Film {
   // meets none): the features a denoiser is fed with.
   std::vector<double> albedo_sum;         // (H, W, 3) albedo in [0, 1] (an emitter: its colour)
   std::vector<double> albedo_normal_sum;  // (H, W, 3) user-frame normal there
+  // Every sample: the radiance its path collected up to and at that hit (lights seen directly or through
+  // mirrors and glass, the sky): sharp and not noisy, so the denoiser is given the rest.
+  std::vector<double> emission_sum;  // (H, W, 3)
 
   // Every per-pixel array, once: f(name, array, channels, flag) with `flag` the FilmAovs member that
   // keeps it (null: always kept). resize, has_layout and the bindings' film dict all go through this
@@ -58,6 +62,7 @@ struct Film {
     f("normal", film.normal, 3, &FilmAovs::normal);
     f("albedo_sum", film.albedo_sum, 3, &FilmAovs::albedo);
     f("albedo_normal_sum", film.albedo_normal_sum, 3, &FilmAovs::albedo_normal);
+    f("emission_sum", film.emission_sum, 3, &FilmAovs::emission);
   }
 
   void resize(int x, int y, int w, int h, const FilmAovs& a) {
@@ -97,12 +102,13 @@ struct FilmSums {
   const double* steps_sum = nullptr;  // optional (null: not kept)
   const double* albedo_sum = nullptr;
   const double* albedo_normal_sum = nullptr;
+  const double* emission_sum = nullptr;
 };
 
 inline FilmSums sums_of(const Film& f) {
   auto opt = [](const std::vector<double>& v) { return v.empty() ? nullptr : v.data(); };
   return {size_t(f.width) * size_t(f.height), f.rgb_sum.data(), f.rgb_sq_sum.data(), f.samples.data(),
-          f.errors.data(), opt(f.steps_sum), opt(f.albedo_sum), opt(f.albedo_normal_sum)};
+          f.errors.data(), opt(f.steps_sum), opt(f.albedo_sum), opt(f.albedo_normal_sum), opt(f.emission_sum)};
 }
 
 // The variance of pixel i's mean in channel k: (sum of squares - n mean^2) / (n - 1) / n, never below 0
@@ -150,10 +156,10 @@ inline double noise(const FilmSums& f) { return noise(noise_parts(f)); }
 // The film resolved to per-pixel means, float32 as the image and its AOVs are stored: rgb (H, W, 3) mean
 // radiance, variance (H, W, 3) the variance of that mean estimated from the pixel's samples (sample
 // variance / n; NaN below 2 samples), n_steps (if kept) and errors (H, W) means per sample, samples (H, W)
-// counts, albedo and albedo_normal (if kept) (H, W, 3) means per sample; and the totals of samples and of
+// counts, albedo, albedo_normal and emission (if kept) (H, W, 3) means per sample; and the totals of samples and of
 // samples with errors. The first-hit AOVs and max_drift are per pixel already and stay in the film.
 struct ResolvedFilm {
-  std::vector<float> rgb, variance, n_steps, errors, samples, albedo, albedo_normal;
+  std::vector<float> rgb, variance, n_steps, errors, samples, albedo, albedo_normal, emission;
   int64_t samples_total = 0, errors_total = 0;
 };
 
@@ -182,6 +188,7 @@ inline ResolvedFilm resolve(const FilmSums& f) {
   };
   mean3(f.albedo_sum, out.albedo);
   mean3(f.albedo_normal_sum, out.albedo_normal);
+  mean3(f.emission_sum, out.emission);
   out.errors.resize(n);
   out.samples.resize(n);
   for (size_t i = 0; i < n; ++i) {

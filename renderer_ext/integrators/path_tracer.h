@@ -199,6 +199,8 @@ class PathTracer {
     out.albedo = {0, 0, 0};
     out.albedo_normal = {0, 0, 0};
     bool features_done = film.albedo_sum.empty() && film.albedo_normal_sum.empty();
+    V3 L_sharp{0, 0, 0};  // ps.L up to and at the first non-specular hit (the emission AOV)
+    bool sharp = !film.emission_sum.empty();
 
     for (int bounce = 0; bounce < o_.max_depth; ++bounce) {
       Track* track = ps.open();
@@ -219,8 +221,10 @@ class PathTracer {
         ps.mis = ps.lens_pb / (ps.lens_pb + pl);
       }
       ps.L += ps.beta * Le * ps.mis;
+      if (sharp) L_sharp = ps.L;
       if (e.status != kHit) break;
       const Material& mat = sc_.materials[sc_.prims[e.prim].material];
+      if (!mat.is_delta()) sharp = false;
       if (!features_done && !mat.is_delta()) {
         features_done = true;
         out.albedo = feature_albedo(mat, e.surface);
@@ -260,12 +264,17 @@ class PathTracer {
       skip = e.prim;
     }
     V3 L = ps.L;
-    if (cam.shift != kShiftNone) L = Emission<M>::shifted(L - L_own_shift, g_camera, cam.shift == kShiftColour) + L_own_shift;
+    if (cam.shift != kShiftNone) {
+      L = Emission<M>::shifted(L - L_own_shift, g_camera, cam.shift == kShiftColour) + L_own_shift;
+      L_sharp = Emission<M>::shifted(L_sharp - L_own_shift, g_camera, cam.shift == kShiftColour) + L_own_shift;
+    }
     if (!finite(L)) {
       L = {0, 0, 0};
       ps.error = true;
     }
+    if (!finite(L_sharp)) L_sharp = {0, 0, 0};
     out.L = filter_weight == 1.0 ? L : L * filter_weight;
+    out.emission = filter_weight == 1.0 ? L_sharp : L_sharp * filter_weight;
     out.error = ps.error;
     out.steps = ps.steps;
     out.max_drift = ps.max_drift;

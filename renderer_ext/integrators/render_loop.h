@@ -33,6 +33,7 @@ struct SampleOut {
   double max_drift = 0.0;
   int64_t steps = 0;
   V3 albedo{0, 0, 0}, albedo_normal{0, 0, 0};  // at the first non-specular hit (if the film keeps them)
+  V3 emission{0, 0, 0};  // the part of L collected up to and at the first non-specular hit
   std::vector<RecordedSegment> rec;  // recorded pixels: this sample's segments
 };
 
@@ -58,6 +59,8 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
     for (int c = 0; c < 3; ++c) film.albedo_sum[3 * pix + c] += so.albedo[c];
   if (!film.albedo_normal_sum.empty())
     for (int c = 0; c < 3; ++c) film.albedo_normal_sum[3 * pix + c] += so.albedo_normal[c];
+  if (!film.emission_sum.empty() && usable)  // (a part of L: counted where L is)
+    for (int c = 0; c < 3; ++c) film.emission_sum[3 * pix + c] += so.emission[c];
 }
 
 // The pixels of window (X0, Y0, W, H) whose footprint straddles the edge of a directly seen light, found

@@ -106,7 +106,8 @@ def render(
     denoise: bool = typer.Option(
         False, "--denoise",
         help="Denoise with Intel Open Image Denoise (pip install 'warpviz[denoise]'), fed with the albedo and "
-        "normal at each path's first non-specular hit. A PNG shows the denoised image; an EXR keeps the "
+        "normal at each path's first non-specular hit; the light a path met before that hit (lamps, stars) is "
+        "kept out of the denoiser and added back. A PNG shows the denoised image; an EXR keeps the "
         "unbiased radiance as R, G, B and adds the denoised one as the layer denoised.R/G/B.",
     ),  # fmt: skip
     false_colour: Optional[str] = typer.Option(

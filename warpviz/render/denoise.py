@@ -15,10 +15,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["DENOISE_FEATURES", "DenoiserMissing", "denoise_radiance", "denoiser_version", "require_denoiser"]
+__all__ = ["DENOISE_AOVS", "DENOISE_FEATURES", "DenoiserMissing", "denoise_radiance", "denoiser_version", "require_denoiser"]
 
 #: The AOVs the denoiser is fed with: albedo, then normal (OIDN takes a normal only with an albedo).
 DENOISE_FEATURES = ("albedo", "albedo_normal")
+
+#: What ``render(denoise=True)`` keeps for denoising: the features, and the ``emission`` that is left out
+#: of the denoised radiance and added back (:meth:`warpviz.Image.denoise`).
+DENOISE_AOVS = (*DENOISE_FEATURES, "emission")
 
 #: OIDN's quality setting used (``"high"``: its best, for final frames).
 QUALITY = "high"

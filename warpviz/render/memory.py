@@ -42,6 +42,7 @@ AOV_BYTES = {
     "normal": (12, 0),
     "albedo": (24, 12),
     "albedo_normal": (24, 12),
+    "emission": (24, 12),
 }
 #: Kept free beside the estimate: the interpreter, the extension, the scene and the samples in flight.
 _HEADROOM = 256 * 2**20
@@ -62,7 +63,8 @@ def render_bytes(width: int, height: int, *, aovs: Iterable[str]) -> int:
         Pixels rendered (the crop window's size, if one is given).
     aovs : iterable of str, keyword-only
         The optional AOVs computed (``n_steps``, ``max_drift``, ``redshift``, ``status``, ``depth``,
-        ``normal``, ``albedo``, ``albedo_normal``); radiance, ``errors`` and ``samples`` are always kept.
+        ``normal``, ``albedo``, ``albedo_normal``, ``emission``); radiance, ``errors`` and ``samples`` are
+        always kept.
 
     Returns
     -------

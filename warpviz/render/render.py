@@ -36,7 +36,7 @@ from warpviz._native import core
 from warpviz.limits import MAX_SPP, duration_seconds, image_side, noise_level, tolerance_problem
 from warpviz.options import DEFAULT_OPTIONS as OPTION_DEFAULTS
 from warpviz.options import FILTER_RADII, check_option
-from warpviz.render.denoise import DENOISE_FEATURES, require_denoiser
+from warpviz.render.denoise import DENOISE_AOVS, require_denoiser
 from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
 from warpviz.render.passes import PASS_SAMPLES, PassesDone, PassReport, concat_rays, pass_plan, run_passes
@@ -48,7 +48,8 @@ from warpviz.tracing import RayBundle, default_max_drift, recorded_point_data
 __all__ = ["render", "DarkSceneWarning", "DEFAULT_OPTIONS", "FILTER_RADII", "OPTIONAL_AOVS"]
 
 #: The AOVs a render computes only when asked (``aovs=``); ``errors`` and ``samples`` it always keeps.
-OPTIONAL_AOVS = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal")
+OPTIONAL_AOVS = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal",
+                 "emission")
 
 #: Renderer options and their defaults (see docs/native-scene.md).
 #: What a render starts from: every option of the table's defaults (warpviz/options.py), the optional AOVs
@@ -337,7 +338,7 @@ def render(
                            noise=float(core.film_noise(film)))  # fmt: skip
         seconds_before = float(prior.metadata.get("seconds") or 0.0)
     elif denoise:
-        options["aovs"] += [a for a in DENOISE_FEATURES if a not in options["aovs"]]
+        options["aovs"] += [a for a in DENOISE_AOVS if a not in options["aovs"]]
     if denoise:
         require_denoiser()  # before any work: a missing optional dependency is named at once
     check_render_memory(cw, ch, aovs=options["aovs"], image=None if (cw, ch) == (w, h) else (w, h))
@@ -408,7 +409,7 @@ def render(
     rays = _bundle(concat_rays(done.rays), metric, options) if done.rays else None
     # The AOVs in the core's order; the first-hit ones and max_drift are the film's own arrays.
     aovs_out = {}
-    for name in ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal"):
+    for name in OPTIONAL_AOVS:
         value = resolved[name] if name in resolved else film[name]
         if value is not None:
             aovs_out[name] = value

@@ -186,4 +186,5 @@ def film_from_image(img, aovs: list[str]) -> dict:
         "normal": per_pixel("normal"),
         "albedo_sum": per_pixel("albedo", n),
         "albedo_normal_sum": per_pixel("albedo_normal", n),
+        "emission_sum": per_pixel("emission", n),
     }

@@ -27,8 +27,8 @@ __all__ = ["AOV_NAMES"]
 #: The AOV names a scene's ``[outputs] aovs`` may list: :data:`warpviz.render.render.OPTIONAL_AOVS` (the
 #: renderer sits above scenes, so they are named here too; tests/test_scene.py checks they agree) and the
 #: two a render always keeps.
-AOV_NAMES = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal", "errors",
-             "samples")
+AOV_NAMES = ("redshift", "n_steps", "max_drift", "status", "depth", "normal", "albedo", "albedo_normal", "emission",
+             "errors", "samples")
 
 
 #: The keys of a ``[metric]`` table with ``name = "custom"``, besides the landmarks (docs/line-element.md).
