@@ -123,8 +123,8 @@ class Image:
         (``render(denoise=True)`` computes them); without them the radiance alone is denoised. Where the
         image has the ``emission`` AOV, only ``rgb - emission`` is denoised and the emission is added back:
         the lights a camera sees directly (and the stars) stay as sharp as rendered, and their radiance,
-        10-100x the room's, no longer bleeds into the room (in fig07 that takes 2/3 of the denoised
-        frame's error away: benchmarks/README.md, "Time to a clean picture").
+        10-100x the room's, no longer bleeds into the room (in fig07 at 640 x 480 the denoised frame's
+        relative MSE falls 3.7x at 8 spp and 7x at 32: benchmarks/README.md, "Time to a clean picture").
 
         Returns
         -------
