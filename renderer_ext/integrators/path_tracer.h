@@ -224,11 +224,13 @@ class PathTracer {
       if (sharp) L_sharp = ps.L;
       if (e.status != kHit) break;
       const Material& mat = sc_.materials[sc_.prims[e.prim].material];
-      if (!mat.is_delta()) sharp = false;
-      if (!features_done && !mat.is_delta()) {
-        features_done = true;
-        out.albedo = feature_albedo(mat, e.surface);
-        out.albedo_normal = e.surface.normal;
+      if (!mat.is_delta()) {  // the first non-specular hit ends the emission AOV and gives the features
+        sharp = false;
+        if (!features_done) {
+          features_done = true;
+          out.albedo = feature_albedo(mat, e.surface);
+          out.albedo_normal = e.surface.normal;
+        }
       }
       if (mat.kind == MaterialKind::kEmissive || bounce + 1 >= o_.max_depth) break;
       const SurfacePoint& sp = e.surface;
@@ -264,9 +266,12 @@ class PathTracer {
       skip = e.prim;
     }
     V3 L = ps.L;
-    if (cam.shift != kShiftNone) {
-      L = Emission<M>::shifted(L - L_own_shift, g_camera, cam.shift == kShiftColour) + L_own_shift;
-      L_sharp = Emission<M>::shifted(L_sharp - L_own_shift, g_camera, cam.shift == kShiftColour) + L_own_shift;
+    if (cam.shift != kShiftNone) {  // the camera's own shift, on all it saw but emitters that shift their own
+      auto seen = [&](V3 v) {
+        return Emission<M>::shifted(v - L_own_shift, g_camera, cam.shift == kShiftColour) + L_own_shift;
+      };
+      L = seen(L);
+      L_sharp = seen(L_sharp);
     }
     if (!finite(L)) {
       L = {0, 0, 0};
