@@ -1,6 +1,7 @@
 """Helpers shared by the benchmark scripts: machine description, CPU timing, CSV and plot output, the
-equal-error interpolation of work-precision curves, and the far observer's image plane (through the
-renderer's pinhole camera, :mod:`warpviz.scene.camera`).
+equal-error interpolation of work-precision curves, the far observer's image plane (through the
+renderer's pinhole camera, :mod:`warpviz.scene.camera`), a converged reference from two halves with its own
+noise (:class:`Reference`), and the options that render references on a Dask cluster.
 
 Timings are CPU seconds of this process (``time.process_time``, all threads summed), so a rate is per
 core by construction and is not inflated when other processes share the machine. Wall-clock seconds
@@ -230,6 +231,54 @@ def pinhole_grid(position, *, size: int, half_width: float, look_at=(0.0, 0.0, 0
         t = np.tan(t * math.atan(tan_half)) / tan_half
     x, y = np.meshgrid(0.5 * n * (1.0 + t), 0.5 * n * (1.0 - t))  # pixel coordinates: x right, y down
     return pinhole_directions(camera, np.column_stack([x.ravel(), y.ravel()]), jitter=(0.0, 0.0))
+
+
+class Reference:
+    """The mean of two independent renders and what their difference says about its own noise.
+
+    Parameters
+    ----------
+    a, b : numpy.ndarray, shape (H, W, 3)
+        The two halves (independent seeds, equal samples).
+    spp : int
+        Samples per pixel of the smaller half.
+    """
+
+    def __init__(self, a: np.ndarray, b: np.ndarray, spp: int):
+        a, b = np.asarray(a, np.float64), np.asarray(b, np.float64)
+        self.image = 0.5 * (a + b)
+        self.scale = float(np.mean(self.image)) ** 2
+        # (a - b)^2 / 4 estimates, pixel by pixel, the squared error of the mean (a + b) / 2
+        self.noise_map = (a - b) ** 2 / 4.0
+        self.noise = float(np.mean(self.noise_map)) / self.scale
+        self.spp = spp
+
+    def rel_mse(self, image: np.ndarray, mask: np.ndarray | None = None) -> tuple[float, float]:
+        """The relative MSE of ``image`` and its standard error, over every pixel or those of ``mask``.
+
+        The squared error against the reference, less the reference's own squared error estimated from the
+        halves, pixel by pixel; summed over pixels and channels and divided by the squared mean of the
+        reference. It is unbiased however noisy the reference (the image and the halves are independent);
+        the standard error (of the per-pixel terms' mean) says how far the reference's noise still blurs it.
+
+        Parameters
+        ----------
+        image : numpy.ndarray, shape (H, W, 3)
+        mask : numpy.ndarray of bool, shape (H, W), optional
+            Only these pixels, and the squared mean of the reference over them.
+
+        Returns
+        -------
+        (float, float)
+            The estimate (slightly below 0 possible when the image is as good as the reference) and its
+            standard error.
+        """
+        d = (np.asarray(image, np.float64) - self.image) ** 2 - self.noise_map
+        scale = self.scale
+        if mask is not None:
+            d, scale = d[mask], float(np.mean(self.image[mask])) ** 2
+        d = d / scale
+        return float(np.mean(d)), float(np.std(d) / math.sqrt(d.size))
 
 
 def add_cluster_options(parser, *, what: str = "the converged references") -> None:

@@ -27,7 +27,8 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, add_cluster_options, cluster_render_options, machine_line, timed, write_csv  # noqa: E402
+from _common import (RESULTS, Reference, add_cluster_options, cluster_render_options, machine_line,  # noqa: E402
+                     timed, write_csv)
 
 SETTINGS = (1, 2, 4, 8)
 
@@ -43,8 +44,8 @@ def reference(scene: str, *, size, ref_spp: int, via: dict | None = None) -> tup
     (``via``: render keywords that send the halves to a Dask cluster)."""
     a, _ = _render(scene, size, spp=ref_spp // 2, seed=100_001, edge_samples=8, via=via)
     b, _ = _render(scene, size, spp=ref_spp // 2, seed=200_003, edge_samples=8, via=via)
-    a, b = a.rgb.astype(np.float64), b.rgb.astype(np.float64)
-    return 0.5 * (a + b), (a - b) ** 2 / 4.0
+    ref = Reference(a.rgb, b.rgb, ref_spp // 2)
+    return ref.image, ref.noise_map
 
 
 def measure(scene: str, *, size, spp: int, ref: np.ndarray, noise: np.ndarray, ref_spp: int, seeds: int) -> list[dict]:

@@ -48,7 +48,8 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, add_cluster_options, cluster_render_options, machine_line, timed, write_csv  # noqa: E402
+from _common import (RESULTS, Reference, add_cluster_options, cluster_render_options, machine_line,  # noqa: E402
+                     timed, write_csv)
 
 #: Estimators: name -> render options.
 ESTIMATORS = {
@@ -84,7 +85,8 @@ def reference(room: str, cfg: dict, *, max_depth: int | None = None, via: dict |
     a, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=100_001, max_depth=max_depth, via=via)
     b, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=200_003, max_depth=max_depth, via=via)
     direct, _ = _render(room, cfg, spp=64, seed=7, max_depth=1, edge_samples=1)  # the camera segment alone
-    return 0.5 * (a + b), (a - b) ** 2 / 4.0, direct.max(axis=2) <= 0.0
+    ref = Reference(a, b, cfg["ref_spp"] // 2)
+    return ref.image, ref.noise_map, direct.max(axis=2) <= 0.0
 
 
 def measure(room: str, cfg: dict, estimator: str, ref, noise, mask, *, max_depth: int | None = None) -> dict:

@@ -45,57 +45,10 @@ import warpviz as wv
 from warpviz.render.denoise import DENOISE_AOVS
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, add_cluster_options, cluster_render_options, machine_line, time_at_error, write_csv  # noqa: E402
+from _common import (RESULTS, Reference, add_cluster_options, cluster_render_options, machine_line,  # noqa: E402
+                     time_at_error, write_csv)
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-class Reference:
-    """The mean of two independent renders and what their difference says about its own noise.
-
-    Parameters
-    ----------
-    a, b : numpy.ndarray, shape (H, W, 3)
-        The two halves (independent seeds, equal samples).
-    spp : int
-        Samples per pixel of the smaller half.
-    """
-
-    def __init__(self, a: np.ndarray, b: np.ndarray, spp: int):
-        a, b = np.asarray(a, np.float64), np.asarray(b, np.float64)
-        self.image = 0.5 * (a + b)
-        self.scale = float(np.mean(self.image)) ** 2
-        # (a - b)^2 / 4 estimates, pixel by pixel, the squared error of the mean (a + b) / 2
-        self.noise_map = (a - b) ** 2 / 4.0
-        self.noise = float(np.mean(self.noise_map)) / self.scale
-        self.spp = spp
-
-    def rel_mse(self, image: np.ndarray, mask: np.ndarray | None = None) -> tuple[float, float]:
-        """The relative MSE of ``image`` and its standard error, over every pixel or those of ``mask``.
-
-        The squared error against the reference, less the reference's own squared error estimated from the
-        halves, pixel by pixel; summed over pixels and channels and divided by the squared mean of the
-        reference. It is unbiased however noisy the reference (the image and the halves are independent);
-        the standard error (of the per-pixel terms' mean) says how far the reference's noise still blurs it.
-
-        Parameters
-        ----------
-        image : numpy.ndarray, shape (H, W, 3)
-        mask : numpy.ndarray of bool, shape (H, W), optional
-            Only these pixels, and the squared mean of the reference over them.
-
-        Returns
-        -------
-        (float, float)
-            The estimate (slightly below 0 possible when the image is as good as the reference) and its
-            standard error.
-        """
-        d = (np.asarray(image, np.float64) - self.image) ** 2 - self.noise_map
-        scale = self.scale
-        if mask is not None:
-            d, scale = d[mask], float(np.mean(self.image[mask])) ** 2
-        d = d / scale
-        return float(np.mean(d)), float(np.std(d) / math.sqrt(d.size))
 
 
 def light_pixels(scene: str, w: int, h: int) -> np.ndarray:

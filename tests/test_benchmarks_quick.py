@@ -255,12 +255,12 @@ def test_time_to_clean_benchmark_quick_mode_builds_its_reference_in_pieces(tmp_p
 def test_time_to_clean_reference_subtracts_its_own_noise_without_bias():
     """A reference as noisy as the image still measures the image's error: the halves' difference takes the
     reference's noise out, pixel by pixel, and the standard error covers what is left."""
-    import bench_time_to_clean
+    from _common import Reference
 
     rng = np.random.default_rng(7)
     truth = rng.uniform(0.5, 2.0, size=(120, 160, 3))
     sigma_ref, sigma_img = 0.3 * truth, 0.1 * truth  # heteroscedastic, the reference 9x the image's MSE
-    ref = bench_time_to_clean.Reference(truth + sigma_ref * rng.standard_normal(truth.shape),
+    ref = Reference(truth + sigma_ref * rng.standard_normal(truth.shape),
                                         truth + sigma_ref * rng.standard_normal(truth.shape), spp=8)
     image = truth + sigma_img * rng.standard_normal(truth.shape)
     exact = float(np.mean(sigma_img**2)) / float(np.mean(truth)) ** 2
