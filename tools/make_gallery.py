@@ -8,8 +8,8 @@ Qualities (:data:`QUALITIES`):
 
 * ``classroom`` (default): 640x480 pictures a class can read on a projector, each with a time budget on
   the machine that makes it (the rooms, scenes with diffuse surfaces lit by emitters whose indirect light
-  is the noisy part, 4 minutes and denoised unless a star field is in view, which the denoiser smears;
-  every other scene 1 minute), into ``docs/gallery/classroom``.
+  is the noisy part, 4 minutes and denoised: the lamps and stars seen directly, the ``emission`` AOV,
+  are kept out of the denoiser, so they stay sharp; every other scene 1 minute), into ``docs/gallery/classroom``.
   About 50 minutes on 2 cores for the whole gallery.
 * ``ci``: each scene at its own default size and samples (96x72, a few seconds each), into
   ``docs/gallery``: what CI renders.
@@ -86,13 +86,6 @@ def is_room(scene) -> bool:
     return diffuse and lit
 
 
-def has_stars(scene) -> bool:
-    """A scene with a star field on either sky: the denoiser, trained on smooth surfaces, smears its
-    sub-pixel stars into streaks, so such a scene is not denoised."""
-    native = scene.native()
-    return any((native.get(key) or {}).get("stars") is not None for key in ("environment", "environment_other"))
-
-
 def short_name(path: Path) -> str:
     """A scene's picture name: its figure (``fig07``) or first word (``mitsuba``), or the whole stem for the
     line-element library (``line_element_kerr_newman``), whose scenes share their first words."""
@@ -110,7 +103,7 @@ def settings(scene, quality: str, *, spp: int | None = None, denoise: bool | Non
     chosen_spp = spp if spp is not None else q["spp"]
     if chosen_spp is not None:
         budget = None
-    denoised = (q["room_denoise"] if room else q["denoise"]) and not has_stars(scene)
+    denoised = q["room_denoise"] if room else q["denoise"]
     return {"size": q["size"], "spp": chosen_spp, "seconds": budget,
             "denoise": bool(denoised if denoise is None else denoise)}  # fmt: skip
 
