@@ -1,4 +1,4 @@
-"""More samples on the edges of directly seen lights (``render(edge_samples=)``, integrators/render_loop.h).
+"""More samples on the edges of lights, seen directly or in mirrors and glass, (``render(edge_samples=)``, integrators/render_loop.h).
 
 The edge pixels are chosen by probe rays before any sample is drawn, so a pixel's sample count does not
 depend on what its samples find. The tests check the two facts that make the estimate unbiased and
@@ -66,6 +66,35 @@ def test_the_probes_find_the_pixels_the_lamps_edge_crosses():
     assert half.sum() >= 4 and np.all(edges[half])
     assert not np.any(edges[(cover == 0.0) | (cover == 1.0)])
     assert edges.sum() >= 8
+
+
+def _glass_ball_under_a_lamp() -> dict:
+    """A glass ball under a square lamp, the camera looking at the ball from the side: the lamp is out of
+    view, seen only reflected in the ball and through it."""
+    return {"metric": metric(),
+            "camera": {"position": [0, -8, 1], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 40, "width": 48,
+                       "height": 36},
+            "textures": [{"type": "constant", "color": [1, 1, 1]}],
+            "materials": [{"type": "emissive", "texture": 0, "strength": 10.0}, {"type": "glass", "ior": 1.5}],
+            "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 2.0, "material": 1},
+                       {"type": "quad", "corner": [-3, -3, 4], "edge_u": [0, 6, 0], "edge_v": [6, 0, 0], "material": 0}],
+            "environment": {"color": [0, 0, 0]}}  # fmt: skip
+
+
+def test_the_probes_follow_mirrors_and_glass():
+    """A lamp seen only in a glass ball: the pixels whose samples see it part of the time (its image's edge
+    crosses them, or each sample's Fresnel choice reflects or refracts it) get the edge samples. Such a
+    pixel's emission differs between two renders of independent seeds; every pixel where it differs by
+    more than 2 % of the lamp's radiance (256 spp each) is an edge pixel. The probes of directly seen
+    lights alone found none here."""
+    scene = _glass_ball_under_a_lamp()
+    assert wv.render(scene, spp=4, max_depth=1).rgb.max() == 0.0  # the lamp is out of view
+    edges = wv.render(scene, spp=1, max_depth=8).aovs["samples"] > 1
+    a, b = (wv.render(scene, spp=256, seed=s, max_depth=8, edge_samples=1, aovs=["emission"]).aovs["emission"][..., 0]
+            for s in (3, 4))  # fmt: skip
+    noisy = np.abs(a - b) / 10.0 > 0.02
+    assert noisy.sum() >= 20 and np.all(edges[noisy])
+    assert edges.sum() < 0.15 * edges.size
 
 
 def test_a_scene_without_emitters_gets_no_edge_samples():

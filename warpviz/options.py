@@ -132,8 +132,9 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
     RenderOption("pixel_sampler", "choice", "sobol", "Where a camera sample falls in its pixel: 'sobol' "
                  "(stratified, Owen-scrambled Sobol) or 'independent' (uniform jitter).",
                  choices=("sobol", "independent")),  # fmt: skip
-    RenderOption("edge_samples", "int", 8, "Samples per pixel, as a multiple of spp, in the pixels a directly "
-                 "seen light's edge crosses (found by probe rays before rendering, so the image stays "
+    RenderOption("edge_samples", "int", 8, "Samples per pixel, as a multiple of spp, in the pixels a light's "
+                 "edge crosses, seen directly or in mirrors and glass, and those that see a light in glass by "
+                 "some samples' Fresnel choice only (found by probe rays before rendering, so the image stays "
                  "unbiased); 1 turns it off.", lo=1, hi=MAX_EDGE_SAMPLES, flag="--edge-samples"),  # fmt: skip
     RenderOption("filter", "choice", "box", "Pixel reconstruction filter, by importance sampling of each "
                  "camera sample's offset.", choices=tuple(FILTER_RADII)),  # fmt: skip

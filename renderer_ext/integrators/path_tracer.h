@@ -285,20 +285,58 @@ class PathTracer {
     out.max_drift = ps.max_drift;
   }
 
-  // Whether the camera ray through image point (x, y) (pixel units, no jitter, no filter) first hits a
-  // surface that emits: the render loop's probes for the edges of directly seen lights (render_loop.h).
+  // What the camera ray through image point (x, y) (pixel units, no jitter, no filter) sees of the emitters,
+  // for the render loop's probes for the edges of lights (render_loop.h), without random numbers: the ray
+  // is followed through mirrors and glass, glass splitting it into its reflected and refracted branch (depth
+  // first, reflection first; at most kProbeSpecular specular vertices along a branch, kProbeLeaves branches).
+  // `hit`: bit k set where branch k ends on an emitter; -1 where some branches end on one and others do not,
+  // so that a sample sees the light or not by its Fresnel choice (a lamp reflected in a glass ball): such a
+  // pixel's emission is noisy however it is covered, and gets the edge samples as an edge pixel does.
+  static constexpr int kProbeSpecular = 3, kProbeLeaves = 7;
   Task<void> probe(double x, double y, RenderStats& st, Scheduler* sched, int8_t& hit) const {
-    PathFrames<M> frames;
-    if constexpr (!M::kFlat) {
-      frames.e[0] = camera_.start();
-      frames.n = frames.next = 1;
-    }
-    SegmentEnd e;
+    struct Branch {
+      V3 x, d;
+      int sheet, skip, depth;
+    };
+    Branch todo[kProbeLeaves];
+    int n_todo = 0, leaves = 0, mask = 0;
     double energy0;
-    co_await segments_.segment(sc_.camera.position, sc_.camera.sheet,
-                               camera_.start_direction(camera_.direction_at(x, y), energy0), -1, nullptr, st, frames,
-                               sched, e);
-    hit = e.status == kHit && sc_.materials[sc_.prims[e.prim].material].emits() ? 1 : 0;
+    todo[n_todo++] = {sc_.camera.position, camera_.start_direction(camera_.direction_at(x, y), energy0),
+                      sc_.camera.sheet, -1, 0};
+    while (n_todo > 0) {
+      const Branch b = todo[--n_todo];
+      PathFrames<M> frames;
+      if constexpr (!M::kFlat) {
+        if (b.depth == 0) {
+          frames.e[0] = camera_.start();
+          frames.n = frames.next = 1;
+        }
+      }
+      SegmentEnd e;
+      co_await segments_.segment(b.x, b.sheet, b.d, b.skip, nullptr, st, frames, sched, e);
+      const Material* mat = e.status == kHit ? &sc_.materials[sc_.prims[e.prim].material] : nullptr;
+      const bool split = mat && !mat->emits() && mat->is_delta() && b.depth < kProbeSpecular &&
+                         leaves + n_todo + 2 <= kProbeLeaves;
+      if (!split) {  // a leaf: an emitter, a non-specular surface, the sky, or as deep as the probe goes
+        if (mat && mat->emits()) mask |= 1 << leaves;
+        ++leaves;
+        continue;
+      }
+      const V3 n = e.normal_local, wo = -e.dir;
+      // u3 = 0 reflects; u3 just below 1 refracts unless the glass reflects totally (then one branch)
+      const BsdfSample refl = bsdf_sample(*mat, {1, 1, 1}, n, wo, 0.5, 0.5, 0.0);
+      BsdfSample refr;
+      if (mat->kind == MaterialKind::kGlass) {
+        double cos_t;
+        const double eta = dot(wo, n) > 0.0 ? mat->ior : 1.0 / mat->ior;
+        if (fresnel_dielectric(std::fabs(dot(wo, n)), eta, cos_t) < 1.0)
+          refr = bsdf_sample(*mat, {1, 1, 1}, n, wo, 0.5, 0.5, std::nextafter(1.0, 0.0));
+      }
+      for (const BsdfSample& bs : {refr, refl})  // pushed refraction first: reflection is traced first
+        if (bs.valid) todo[n_todo++] = {offset(e.pos, e.surface.normal, n, bs.wi), bs.wi, e.sheet, e.prim, b.depth + 1};
+    }
+    const bool mixed = mask != 0 && mask != (1 << leaves) - 1;
+    hit = mixed ? int8_t(-1) : int8_t(mask);
   }
 
  private:

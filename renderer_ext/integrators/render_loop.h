@@ -1,6 +1,6 @@
 // The render loop: progressive passes (1, 1, 2, 4, ... samples per pixel, so an interrupted render is a
 // whole image) over chunks of pixels in parallel, then further samples in the pixels on the edge of a
-// directly seen light (found first, by probe rays on a fixed lattice), progress and cancellation, and the
+// light seen directly or in mirrors and glass (found first, by probe rays on a fixed lattice), progress and cancellation, and the
 // film's accumulation of what the samples add, in (pixel, sample) order whatever order they finished in;
 // the recorded pixels' segments and the segment statistics are collected on the way.
 #pragma once
@@ -63,11 +63,13 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
     for (int c = 0; c < 3; ++c) film.emission_sum[3 * pix + c] += so.emission[c];
 }
 
-// The pixels of window (X0, Y0, W, H) whose footprint straddles the edge of a directly seen light, found
-// without random numbers: probe(x, y, stats, scheduler, hit) says whether the camera ray through image
-// point (x, y) (pixel units) first hits an emitter; the probes lie on the lattice of half-pixel spacing
-// (corners, edge midpoints and centres, shared by neighbours), and a pixel whose nine lattice points
-// disagree is an edge pixel. Depends only on the scene and the pixel, so every window agrees on it.
+// The pixels of window (X0, Y0, W, H) whose footprint straddles the edge of a light, seen directly or in
+// mirrors and glass, found without random numbers: probe(x, y, stats, scheduler, hit) says which of the
+// specular branches of the camera ray through image point (x, y) (pixel units) end on an emitter (a bit
+// each), or -1 where some do and some do not (path_tracer.h); the probes lie on the lattice of half-pixel
+// spacing (corners, edge midpoints and centres, shared by neighbours), and a pixel whose nine lattice
+// points disagree, or one of which is -1, is an edge pixel. Depends only on the scene and the pixel, so
+// every window agrees on it.
 template <class M, class S, class Probe>
 std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int Y0, int W, int H, const Probe& probe,
                                 const std::function<bool()>& poll, bool& cancelled, RenderStats& stats) {
@@ -93,20 +95,20 @@ std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int 
   if (cancelled) return edges;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      int any = 0, all = 1;
-      for (int j = 0; j < 3; ++j)
+      const int8_t h0 = hit[size_t(2 * y) * LW + size_t(2 * x)];
+      bool edge = h0 < 0;
+      for (int j = 0; j < 3 && !edge; ++j)
         for (int i = 0; i < 3; ++i) {
           const int8_t h = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
-          any |= h;
-          all &= h;
+          if (h != h0 || h < 0) edge = true;
         }
-      if (any && !all) edges.push_back(size_t(y) * W + x);
+      if (edge) edges.push_back(size_t(y) * W + x);
     }
   return edges;
 }
 
 // Renders camera `cam` (its window o.crop, if set): samples [B, B + o.spp) of every pixel, B = o.sample_begin,
-// and [E B, E (B + o.spp)) of each pixel on a directly seen light's edge, E = o.edge_samples (edge_pixels,
+// and [E B, E (B + o.spp)) of each edge pixel (a light's edge, seen directly or in mirrors and glass), E = o.edge_samples (edge_pixels,
 // probed before any sample where probe_edges, i.e. something emits, unless o.edges_given: the count does not
 // depend on what the samples find, so every pixel's mean stays unbiased). Consecutive ranges therefore
 // hold exactly the samples of one render of their total: a render can stop after any range and resume

@@ -46,8 +46,10 @@ struct RenderOptions {
   int light_connection = kLensConnection;
   int lens_images = 0;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
   int pixel_sampler = kSobolPixels;
-  // Pixels on the edge of a directly seen light (render_loop.h: edge_pixels) get edge_samples x spp samples:
-  // the lamp's edge inside a pixel (a lensed lamp's thin arcs) is the noise no light connection touches.
+  // Pixels on the edge of a light seen directly or in mirrors and glass, or seeing one in glass by some
+  // samples' Fresnel choice only (render_loop.h: edge_pixels) get edge_samples x spp samples: the lamp's edge
+  // inside a pixel (a lensed lamp's thin arcs) and its reflection in glass are noise no light connection
+  // touches.
   int edge_samples = 0;
   // The window's edge pixels (indices into the window, ascending) when a previous range found them
   // (RenderResult::edge_list): the probes are then not traced again.

@@ -153,13 +153,17 @@ def render(
         from the sample's random numbers (the images of warpviz before the lens connection, bit for bit
         in flat space).
     edge_samples : int, optional, keyword-only
-        Pixels on the edge of a directly seen light get ``edge_samples`` x ``spp`` samples (default 8;
+        Pixels on the edge of a light, seen directly or in mirrors and glass, get ``edge_samples`` x
+        ``spp`` samples (default 8;
         1 turns it off; at most :data:`warpviz.limits.MAX_EDGE_SAMPLES`). Where the camera sees a lamp,
         the lamp's edge inside a pixel (and a lensed lamp's thin arcs) is by far the largest noise of a
         lit room, and no light connection touches it (fig07 room: half the MSE at 16 spp in 12 of 1728
         pixels). The edge pixels are found before any sample, by camera rays through the corners, edge
-        midpoints and centres of the pixels (a pixel whose nine disagree on hitting an emitter is an edge
-        pixel), so a pixel's sample count does not depend on what its samples find and every pixel's mean
+        midpoints and centres of the pixels, followed through mirrors and glass (glass splits a ray into
+        its reflected and refracted branch): a pixel whose nine disagree on which branches end on an
+        emitter is an edge pixel, and so is one where some of a ray's branches end on one and others do
+        not (a lamp reflected in a glass ball, seen by the samples that the Fresnel choice reflects; fig07
+        at 640x480: 40 % less denoised MSE), so a pixel's sample count does not depend on what its samples find and every pixel's mean
         stays unbiased. ``aovs["samples"]`` says how many each pixel got and ``stats["edge_pixels"]`` how
         many pixels got more. Emitters narrower than half a pixel can slip between the probes; they are
         then sampled like any pixel.
