@@ -333,7 +333,8 @@ class PathTracer {
           refr = bsdf_sample(*mat, {1, 1, 1}, n, wo, 0.5, 0.5, std::nextafter(1.0, 0.0));
       }
       for (const BsdfSample& bs : {refr, refl})  // pushed refraction first: reflection is traced first
-        if (bs.valid) todo[n_todo++] = {offset(e.pos, e.surface.normal, n, bs.wi), bs.wi, e.sheet, e.prim, b.depth + 1};
+        if (bs.valid)
+          todo[n_todo++] = {offset(e.pos, e.surface.normal, n, bs.wi), bs.wi, e.sheet, e.prim, b.depth + 1};
     }
     const bool mixed = mask != 0 && mask != (1 << leaves) - 1;
     hit = mixed ? int8_t(-1) : int8_t(mask);

@@ -1,8 +1,9 @@
 // The render loop: progressive passes (1, 1, 2, 4, ... samples per pixel, so an interrupted render is a
 // whole image) over chunks of pixels in parallel, then further samples in the pixels on the edge of a
-// light seen directly or in mirrors and glass (found first, by probe rays on a fixed lattice), progress and cancellation, and the
-// film's accumulation of what the samples add, in (pixel, sample) order whatever order they finished in;
-// the recorded pixels' segments and the segment statistics are collected on the way.
+// light seen directly or in mirrors and glass (found first, by probe rays on a fixed lattice), progress
+// and cancellation, and the film's accumulation of what the samples add, in (pixel, sample) order
+// whatever order they finished in; the recorded pixels' segments and the segment statistics are collected
+// on the way.
 #pragma once
 
 #include <algorithm>
@@ -108,13 +109,13 @@ std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int 
 }
 
 // Renders camera `cam` (its window o.crop, if set): samples [B, B + o.spp) of every pixel, B = o.sample_begin,
-// and [E B, E (B + o.spp)) of each edge pixel (a light's edge, seen directly or in mirrors and glass), E = o.edge_samples (edge_pixels,
-// probed before any sample where probe_edges, i.e. something emits, unless o.edges_given: the count does not
-// depend on what the samples find, so every pixel's mean stays unbiased). Consecutive ranges therefore
-// hold exactly the samples of one render of their total: a render can stop after any range and resume
-// later. sample(px, py, s, film, out, recorded, stats, scheduler) is sample s of image pixel (px, py) as
-// a Task (PathTracer::sample_pixel), run by run_samples. A pixel's samples do not depend on the window,
-// so windows of an image tile it exactly.
+// and [E B, E (B + o.spp)) of each edge pixel (a light's edge, seen directly or in mirrors and glass),
+// E = o.edge_samples (edge_pixels, probed before any sample where probe_edges, i.e. something emits, unless
+// o.edges_given: the count does not depend on what the samples find, so every pixel's mean stays unbiased).
+// Consecutive ranges therefore hold exactly the samples of one render of their total: a render can stop after
+// any range and resume later. sample(px, py, s, film, out, recorded, stats, scheduler) is sample s of image
+// pixel (px, py) as a Task (PathTracer::sample_pixel), run by run_samples. A pixel's samples do not depend on
+// the window, so windows of an image tile it exactly.
 template <class M, class S, class Sample, class Probe>
 RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o, const Sample& sample,
                            const Probe& probe, bool probe_edges) {
