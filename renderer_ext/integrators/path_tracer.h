@@ -287,22 +287,37 @@ class PathTracer {
 
   // What the camera ray through image point (x, y) (pixel units, no jitter, no filter) sees of the emitters,
   // for the render loop's probes for the edges of lights (render_loop.h), without random numbers: the ray
-  // is followed through mirrors and glass, glass splitting it into its reflected and refracted branch (depth
-  // first, reflection first; at most kProbeSpecular specular vertices along a branch, kProbeLeaves branches).
-  // `hit`: bit k set where branch k ends on an emitter; -1 where some branches end on one and others do not,
-  // so that a sample sees the light or not by its Fresnel choice (a lamp reflected in a glass ball): such a
-  // pixel's emission is noisy however it is covered, and gets the edge samples as an edge pixel does.
-  static constexpr int kProbeSpecular = 3, kProbeLeaves = 7;
-  Task<void> probe(double x, double y, RenderStats& st, Scheduler* sched, int8_t& hit) const {
+  // is followed through mirrors and glass, glass splitting it into its reflected and refracted branch, each
+  // with the share of the light its Fresnel factors give it (depth first, reflection first; at most
+  // kProbeSpecular specular vertices along a branch and kProbeLeaves branches; a branch whose share falls
+  // below kProbeShare is not followed and counts as seeing no emitter). `hit`: a signature of the branches
+  // that end on an emitter (0: none; each branch named by its reflect/refract choices), or kProbeMixed where
+  // some branches end on one and others do not, so that a sample sees the light or not by its Fresnel
+  // choices (a lamp reflected in a glass ball, or seen after reflections inside it): such a pixel's emission
+  // is noisy however it is covered, and gets the edge samples as an edge pixel does.
+  static constexpr int kProbeSpecular = 6, kProbeLeaves = 16;
+  static constexpr double kProbeShare = 1e-3;
+  static constexpr int32_t kProbeMixed = -1;
+  Task<void> probe(double x, double y, RenderStats& st, Scheduler* sched, int32_t& hit) const {
     struct Branch {
       V3 x, d;
       int sheet, skip, depth;
+      uint32_t code;  // 1 followed by the branch's choices, one bit per glass vertex (1: refracted)
+      double share;
     };
-    Branch todo[kProbeLeaves];
-    int n_todo = 0, leaves = 0, mask = 0;
+    Branch todo[kProbeSpecular + 2];  // depth first: at most one pending sibling per level
+    int n_todo = 0, leaves = 0;
+    bool any = false, all = true;
+    uint32_t signature = 0;
     double energy0;
     todo[n_todo++] = {sc_.camera.position, camera_.start_direction(camera_.direction_at(x, y), energy0),
-                      sc_.camera.sheet, -1, 0};
+                      sc_.camera.sheet, -1, 0, 1u, 1.0};
+    auto leaf = [&](bool emits, uint32_t code) {
+      ++leaves;
+      any |= emits;
+      all &= emits;
+      if (emits) signature ^= (code * 2654435761u) & 0x7fffffffu;  // a branch's name, hashed
+    };
     while (n_todo > 0) {
       const Branch b = todo[--n_todo];
       PathFrames<M> frames;
@@ -315,29 +330,34 @@ class PathTracer {
       SegmentEnd e;
       co_await segments_.segment(b.x, b.sheet, b.d, b.skip, nullptr, st, frames, sched, e);
       const Material* mat = e.status == kHit ? &sc_.materials[sc_.prims[e.prim].material] : nullptr;
-      const bool split = mat && !mat->emits() && mat->is_delta() && b.depth < kProbeSpecular &&
-                         leaves + n_todo + 2 <= kProbeLeaves;
-      if (!split) {  // a leaf: an emitter, a non-specular surface, the sky, or as deep as the probe goes
-        if (mat && mat->emits()) mask |= 1 << leaves;
-        ++leaves;
+      if (!(mat && !mat->emits() && mat->is_delta() && b.depth < kProbeSpecular &&
+            leaves + n_todo + 2 <= kProbeLeaves)) {  // an emitter, a non-specular surface, the sky, or the end
+        leaf(mat && mat->emits(), b.code);
         continue;
       }
       const V3 n = e.normal_local, wo = -e.dir;
-      // u3 = 0 reflects; u3 just below 1 refracts unless the glass reflects totally (then one branch)
+      double F = 1.0, cos_t;  // a mirror reflects all
+      if (mat->kind == MaterialKind::kGlass)
+        F = fresnel_dielectric(std::fabs(dot(wo, n)), dot(wo, n) > 0.0 ? mat->ior : 1.0 / mat->ior, cos_t);
+      // u3 = 0 reflects; u3 just below 1 refracts where F < 1
       const BsdfSample refl = bsdf_sample(*mat, {1, 1, 1}, n, wo, 0.5, 0.5, 0.0);
-      BsdfSample refr;
-      if (mat->kind == MaterialKind::kGlass) {
-        double cos_t;
-        const double eta = dot(wo, n) > 0.0 ? mat->ior : 1.0 / mat->ior;
-        if (fresnel_dielectric(std::fabs(dot(wo, n)), eta, cos_t) < 1.0)
-          refr = bsdf_sample(*mat, {1, 1, 1}, n, wo, 0.5, 0.5, std::nextafter(1.0, 0.0));
+      const BsdfSample refr = F < 1.0 ? bsdf_sample(*mat, {1, 1, 1}, n, wo, 0.5, 0.5, std::nextafter(1.0, 0.0))
+                                      : BsdfSample{};
+      const bool glass = mat->kind == MaterialKind::kGlass;
+      const Branch kids[2] = {  // pushed refraction first: reflection is traced first
+          {offset(e.pos, e.surface.normal, n, refr.wi), refr.wi, e.sheet, e.prim, b.depth + 1, (b.code << 1) | 1u,
+           b.share * (1.0 - F)},
+          {offset(e.pos, e.surface.normal, n, refl.wi), refl.wi, e.sheet, e.prim, b.depth + 1,
+           glass ? b.code << 1 : b.code, b.share * F}};
+      for (int k = 0; k < 2; ++k) {
+        if (!(k == 0 ? refr.valid : refl.valid)) continue;
+        if (kids[k].share < kProbeShare)
+          leaf(false, kids[k].code);
+        else
+          todo[n_todo++] = kids[k];
       }
-      for (const BsdfSample& bs : {refr, refl})  // pushed refraction first: reflection is traced first
-        if (bs.valid)
-          todo[n_todo++] = {offset(e.pos, e.surface.normal, n, bs.wi), bs.wi, e.sheet, e.prim, b.depth + 1};
     }
-    const bool mixed = mask != 0 && mask != (1 << leaves) - 1;
-    hit = mixed ? int8_t(-1) : int8_t(mask);
+    hit = any && !all ? kProbeMixed : int32_t(signature);
   }
 
  private:
@@ -382,7 +402,7 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
                       SampleScheduler<M, S>* sched) {
     return pt.sample_pixel(px, py, s, film, out, recorded, st, sched);
   };
-  auto probe = [&pt](double x, double y, RenderStats& st, SampleScheduler<M, S>* sched, int8_t& hit) {
+  auto probe = [&pt](double x, double y, RenderStats& st, SampleScheduler<M, S>* sched, int32_t& hit) {
     return pt.probe(x, y, st, sched, hit);
   };
   // Probing for the edges of lights is wasted where nothing emits.

@@ -65,17 +65,17 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
 }
 
 // The pixels of window (X0, Y0, W, H) whose footprint straddles the edge of a light, seen directly or in
-// mirrors and glass, found without random numbers: probe(x, y, stats, scheduler, hit) says which of the
-// specular branches of the camera ray through image point (x, y) (pixel units) end on an emitter (a bit
-// each), or -1 where some do and some do not (path_tracer.h); the probes lie on the lattice of half-pixel
-// spacing (corners, edge midpoints and centres, shared by neighbours), and a pixel whose nine lattice
-// points disagree, or one of which is -1, is an edge pixel. Depends only on the scene and the pixel, so
+// mirrors and glass, found without random numbers: probe(x, y, stats, scheduler, hit) gives a signature of
+// the specular branches of the camera ray through image point (x, y) (pixel units) that end on an emitter
+// (0: none), or -1 where some branches do and some do not (path_tracer.h); the probes lie on the lattice of
+// half-pixel spacing (corners, edge midpoints and centres, shared by neighbours), and a pixel whose nine
+// lattice points disagree, or one of which is -1, is an edge pixel. Depends only on the scene and the pixel, so
 // every window agrees on it.
 template <class M, class S, class Probe>
 std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int Y0, int W, int H, const Probe& probe,
                                 const std::function<bool()>& poll, bool& cancelled, RenderStats& stats) {
   const size_t LW = size_t(2 * W + 1), LH = size_t(2 * H + 1), n = LW * LH;
-  std::vector<int8_t> hit(n, 0);
+  std::vector<int32_t> hit(n, 0);
   constexpr size_t kChunk = 256;  // lattice points per parallel task
   std::mutex stats_mutex;
   auto body = [&](size_t c) {
@@ -96,11 +96,11 @@ std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int 
   if (cancelled) return edges;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      const int8_t h0 = hit[size_t(2 * y) * LW + size_t(2 * x)];
+      const int32_t h0 = hit[size_t(2 * y) * LW + size_t(2 * x)];
       bool edge = h0 < 0;
       for (int j = 0; j < 3 && !edge; ++j)
         for (int i = 0; i < 3; ++i) {
-          const int8_t h = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
+          const int32_t h = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
           if (h != h0 || h < 0) edge = true;
         }
       if (edge) edges.push_back(size_t(y) * W + x);
