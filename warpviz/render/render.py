@@ -163,8 +163,8 @@ def render(
         its reflected and refracted branch): a pixel whose nine disagree on which branches end on an
         emitter is an edge pixel, and so is one where some of a ray's branches end on one and others do
         not (a lamp reflected in a glass ball, seen by the samples that the Fresnel choice reflects; fig07
-        at 640x480: 40 % less denoised MSE), so a pixel's sample count does not depend on what its samples find and every pixel's mean
-        stays unbiased. ``aovs["samples"]`` says how many each pixel got and ``stats["edge_pixels"]`` how
+        at 640x480: half the denoised MSE), so a pixel's sample count does not depend on what its samples
+        find and every pixel's mean stays unbiased. ``aovs["samples"]`` says how many each pixel got and ``stats["edge_pixels"]`` how
         many pixels got more. Emitters narrower than half a pixel can slip between the probes; they are
         then sampled like any pixel.
     filter : {"box", "gaussian", "mitchell"}, optional, keyword-only
