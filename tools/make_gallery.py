@@ -9,7 +9,8 @@ Qualities (:data:`QUALITIES`):
 * ``classroom`` (default): 640x480 pictures a class can read on a projector, each with a time budget on
   the machine that makes it (the rooms, scenes with diffuse surfaces lit by emitters whose indirect light
   is the noisy part, 4 minutes and denoised: the lamps and stars seen directly, the ``emission`` AOV,
-  are kept out of the denoiser, so they stay sharp; every other scene 1 minute), into ``docs/gallery/classroom``.
+  are kept out of the denoiser, so they stay sharp; every other scene 1 minute), into
+  ``docs/gallery/classroom``.
   About 50 minutes on 2 cores for the whole gallery.
 * ``ci``: each scene at its own default size and samples (96x72, a few seconds each), into
   ``docs/gallery``: what CI renders.
