@@ -1,4 +1,5 @@
-"""More samples on the edges of lights, seen directly or in mirrors and glass, (``render(edge_samples=)``, integrators/render_loop.h).
+"""More samples on the edges of lights, seen directly or in mirrors and glass (``render(edge_samples=)``,
+integrators/render_loop.h).
 
 The edge pixels are chosen by probe rays before any sample is drawn, so a pixel's sample count does not
 depend on what its samples find. The tests check the two facts that make the estimate unbiased and

@@ -336,14 +336,14 @@ class PathTracer {
         continue;
       }
       const V3 n = e.normal_local, wo = -e.dir;
+      const bool glass = mat->kind == MaterialKind::kGlass;
       double F = 1.0, cos_t;  // a mirror reflects all
-      if (mat->kind == MaterialKind::kGlass)
+      if (glass)
         F = fresnel_dielectric(std::fabs(dot(wo, n)), dot(wo, n) > 0.0 ? mat->ior : 1.0 / mat->ior, cos_t);
       // u3 = 0 reflects; u3 just below 1 refracts where F < 1
       const BsdfSample refl = bsdf_sample(*mat, {1, 1, 1}, n, wo, 0.5, 0.5, 0.0);
       const BsdfSample refr = F < 1.0 ? bsdf_sample(*mat, {1, 1, 1}, n, wo, 0.5, 0.5, std::nextafter(1.0, 0.0))
                                       : BsdfSample{};
-      const bool glass = mat->kind == MaterialKind::kGlass;
       const Branch kids[2] = {  // pushed refraction first: reflection is traced first
           {offset(e.pos, e.surface.normal, n, refr.wi), refr.wi, e.sheet, e.prim, b.depth + 1, (b.code << 1) | 1u,
            b.share * (1.0 - F)},

@@ -69,8 +69,8 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
 // the specular branches of the camera ray through image point (x, y) (pixel units) that end on an emitter
 // (0: none), or -1 where some branches do and some do not (path_tracer.h); the probes lie on the lattice of
 // half-pixel spacing (corners, edge midpoints and centres, shared by neighbours), and a pixel whose nine
-// lattice points disagree, or one of which is -1, is an edge pixel. Depends only on the scene and the pixel, so
-// every window agrees on it.
+// lattice points disagree, or one of which is -1, is an edge pixel. Depends only on the scene and the
+// pixel, so every window agrees on it.
 template <class M, class S, class Probe>
 std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int Y0, int W, int H, const Probe& probe,
                                 const std::function<bool()>& poll, bool& cancelled, RenderStats& stats) {
@@ -101,7 +101,7 @@ std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int 
       for (int j = 0; j < 3 && !edge; ++j)
         for (int i = 0; i < 3; ++i) {
           const int32_t h = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
-          if (h != h0 || h < 0) edge = true;
+          if (h != h0) edge = true;  // (h0 >= 0 here, so a mixed point differs)
         }
       if (edge) edges.push_back(size_t(y) * W + x);
     }
