@@ -1,14 +1,15 @@
 """What the edge samples are worth: efficiency against ``edge_samples`` in scenes where the camera sees
 emitters directly.
 
-Each scene is rendered at ``--size`` and ``--spp`` with ``edge_samples`` = 1 (off), 2, 4 and 8 (the
-default): the pixels whose footprint straddles the edge of a surface that emits (found by probe rays on
+Each scene is rendered at ``--size`` and ``--spp`` with each ``edge_samples`` of ``--settings`` (default
+1 (off), 2, 4, 8, 16 and 32): the pixels whose footprint straddles the edge of a surface that emits (found by probe rays on
 the half-pixel lattice before any sample) get that many times spp samples. Efficiency = 1 / (relative MSE
 x CPU time) against a reference at ``--ref-spp`` in two independent halves (their difference estimates the
 reference's own noise, which is subtracted); relative MSE = mean squared error over pixels and channels
 over the squared mean of the reference. ``over_off`` is each row's efficiency over ``edge_samples=1``.
 
-    python benchmarks/bench_edge_samples.py           # fig02, fig04, fig07 at 48x36: ~5 minutes on one core
+    python benchmarks/bench_edge_samples.py           # fig02, fig04, fig07 at 48x36: ~8 minutes on one core
+    python benchmarks/bench_edge_samples.py --size 160x120 --settings 1,8,32   # a larger frame: fewer edge pixels
     python benchmarks/bench_edge_samples.py --quick   # seconds
     warpviz bench edge-samples --scenes fig07
 
@@ -30,7 +31,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import (RESULTS, Reference, add_cluster_options, cluster_render_options, machine_line,  # noqa: E402
                      timed, write_csv)
 
-SETTINGS = (1, 2, 4, 8)
+SETTINGS = (1, 2, 4, 8, 16, 32)
 
 
 def _render(scene: str, size, *, spp: int, seed: int, edge_samples: int, via: dict | None = None):
@@ -48,11 +49,13 @@ def reference(scene: str, *, size, ref_spp: int, via: dict | None = None) -> tup
     return ref.image, ref.noise_map
 
 
-def measure(scene: str, *, size, spp: int, ref: np.ndarray, noise: np.ndarray, ref_spp: int, seeds: int) -> list[dict]:
-    """One row per setting of ``edge_samples`` for ``scene``, against its reference."""
+def measure(scene: str, *, size, spp: int, ref: np.ndarray, noise: np.ndarray, ref_spp: int, seeds: int,
+            settings=SETTINGS) -> list[dict]:
+    """One row per setting of ``edge_samples`` in ``settings`` (the first is the baseline of ``over_off``)
+    for ``scene``, against its reference."""
     scale = float(ref.mean()) ** 2
     rows = []
-    for es in SETTINGS:
+    for es in settings:
         mse, cpu = [], []
         for seed in range(seeds):
             img, t = _render(scene, size, spp=spp, seed=seed, edge_samples=es)
@@ -71,18 +74,24 @@ def main(argv=None) -> list[dict]:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true", help="tiny frames and references (seconds; for tests)")
     p.add_argument("--scenes", default="fig02,fig04,fig07", help="comma-separated shipped scenes")
+    p.add_argument("--size", default=None, help="WIDTHxHEIGHT (default 48x36; --quick 12x9)")
+    p.add_argument("--settings", default=None, help="comma-separated edge_samples values, the first the baseline "
+                   "(default 1,2,4,8,16,32; --quick 1,2,4,8)")  # fmt: skip
     p.add_argument("--out", type=Path, default=RESULTS)
     add_cluster_options(p)
     args = p.parse_args(argv)
     cfg = ({"size": (12, 9), "spp": 2, "ref_spp": 16, "seeds": 1} if args.quick else
            {"size": (48, 36), "spp": 16, "ref_spp": 1024, "seeds": 3})  # fmt: skip
+    if args.size:
+        cfg["size"] = tuple(int(v) for v in args.size.lower().split("x"))
+    settings = tuple(int(v) for v in (args.settings or ("1,2,4,8" if args.quick else "1,2,4,8,16,32")).split(","))
     print(machine_line(threads=1))
     scenes = [s.strip() for s in args.scenes.split(",") if s.strip()]
     with cluster_render_options(args) as via:  # the references on a Dask cluster where asked
         refs = {scene: reference(scene, size=cfg["size"], ref_spp=cfg["ref_spp"], via=via) for scene in scenes}
     rows = []
     for scene in scenes:
-        rows += measure(scene, **cfg, ref=refs[scene][0], noise=refs[scene][1])
+        rows += measure(scene, **cfg, ref=refs[scene][0], noise=refs[scene][1], settings=settings)
     path = write_csv(args.out / "edge_samples.csv", rows)
     print(f"{'scene':8s} {'edge':>4s} {'pixels':>6s} {'cpu s':>7s} {'rel MSE':>9s} {'eff':>9s} {'over off':>8s}")
     for r in rows:

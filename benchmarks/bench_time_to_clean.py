@@ -11,8 +11,9 @@ For each scene (default fig07 and fig10d) at ``--size`` (default 640x480):
    standard error, which says whether the reference is good enough yet). ``--reference-only`` only
    continues the references, for a background job; ``--workers N`` or ``--cluster ADDRESS`` renders
    them (and the timed renders) on a Dask cluster, the same images bit for bit.
-2. **The renders**: one render per entry of ``--spp`` (fresh, every core, seed 1), timed (wall clock),
-   then denoised (Intel Open Image Denoise, its time added); each error over every pixel and over the
+2. **The renders**: two renders per entry of ``--spp`` (fresh, every core, seed 1), timed (wall clock):
+   one as rendered, one with ``denoise=True`` (Intel Open Image Denoise, its time included; a denoised
+   render's own defaults, e.g. ``edge_samples`` 32 instead of 8); each error over every pixel and over the
    pixels that do not see a light directly (``light_pixels``: the lamp's radiance dominates an MSE over
    all of them, and the denoiser's error is mostly there). The relative MSE is the mean squared error
    over pixels and channels divided by the squared mean of the reference, less the reference's noise.
@@ -42,7 +43,6 @@ from pathlib import Path
 import numpy as np
 
 import warpviz as wv
-from warpviz.render.denoise import DENOISE_AOVS
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import (RESULTS, Reference, add_cluster_options, cluster_render_options, machine_line,  # noqa: E402
@@ -85,25 +85,24 @@ def extrapolated_time(times: list[float], errors: list[float], target: float) ->
     return times[i] * errors[i] / target if errors[i] > 0 else math.nan
 
 
-def measure(scene: str, w: int, h: int, spps: list[int], ref: Reference, threads: int, via: dict | None = None) -> list[dict]:
+def measure(scene: str, w: int, h: int, spps: list[int], ref: Reference, threads: int, via: dict | None = None,
+            edge_samples: int | None = None) -> list[dict]:
     rows = []
     off = ~light_pixels(scene, w, h)
     workers = len(via["client"].nthreads()) if via else 0
     for spp in spps:
-        t0 = time.perf_counter()
-        img = wv.render(scene, width=w, height=h, spp=spp, seed=1, progress=None, aovs=list(DENOISE_AOVS),
-                        **{"threads": threads, **(via or {})})  # fmt: skip
-        t_render = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        den = img.denoise()
-        t_denoise = time.perf_counter() - t0
-        for method, image, seconds in (("noisy", img.rgb, t_render), ("denoised", den.denoised, t_render + t_denoise)):
+        for method in ("noisy", "denoised"):  # each as a user renders it (a denoised render's own defaults)
+            t0 = time.perf_counter()
+            img = wv.render(scene, width=w, height=h, spp=spp, seed=1, progress=None, denoise=method == "denoised",
+                            edge_samples=edge_samples, **{"threads": threads, **(via or {})})  # fmt: skip
+            seconds = time.perf_counter() - t0
+            image = img.denoised if method == "denoised" else img.rgb
             err, se = ref.rel_mse(image)
             err_off, se_off = ref.rel_mse(image, off)
             rows.append({"scene": scene, "width": w, "height": h, "method": method, "spp": spp,
                          "wall_s": seconds, "dask_workers": workers, "rel_mse": err, "rel_mse_se": se,
                          "rel_mse_off_lights": err_off, "rel_mse_off_lights_se": se_off,
-                         "light_pixels": int((~off).sum()),
+                         "light_pixels": int((~off).sum()), "edge_samples": int(img.metadata["edge_samples"]),
                          "noise_estimate": img.metadata["noise"], "ref_rel_noise": ref.noise})  # fmt: skip
     return rows
 
@@ -145,6 +144,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
                         help="folder of the reference EXRs (kept between runs)")
     parser.add_argument("--reference-only", action="store_true",
                         help="only continue the references by --ref-time (no timed renders): run it in the background")
+    parser.add_argument("--edge-samples", type=int, default=None,
+                        help="edge_samples of every timed render (default: the render's own, 8, or 32 denoised)")
     parser.add_argument("--threads", type=int, default=0, help="render threads (default 0: every core, as a user renders)")
     parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default benchmarks/results)")
     add_cluster_options(parser, what="the references and the timed renders (the time a user of that cluster waits)")
@@ -163,7 +164,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
             print(f"{scene} {w}x{h}: reference 2 x {ref.spp} spp, its relative noise {ref.noise:.2e} "
                   f"({ref.noise / args.target:.2g} of the target)", flush=True)  # fmt: skip
             if not args.reference_only:
-                rows += measure(scene, w, h, spps, ref, args.threads, via)
+                rows += measure(scene, w, h, spps, ref, args.threads, via, edge_samples=args.edge_samples)
     if args.reference_only:
         return []
     summary = []

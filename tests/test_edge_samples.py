@@ -8,12 +8,14 @@ exactly that of the plain render (bit for bit), for any window and thread count;
 the pixels a lamp's edge crosses.
 """
 
+import importlib.util
 import re
 
 import numpy as np
 import pytest
 
 import warpviz as wv
+from warpviz.options import EDGE_SAMPLES, EDGE_SAMPLES_DENOISED
 from native_scenes import metric, room
 
 
@@ -116,3 +118,22 @@ def test_bad_edge_samples_are_named(value, message):
 def test_spp_times_edge_samples_must_fit_the_sample_index():
     with pytest.raises(ValueError, match="spp x edge_samples"):
         wv.render(FLAT, spp=2**30, edge_samples=4)
+
+
+@pytest.mark.skipif(importlib.util.find_spec("pyoidn") is None,
+                    reason="pyoidn (Intel Open Image Denoise) is not installed: pip install 'warpviz[denoise]'")
+def test_a_denoised_render_gives_the_edges_more_samples_and_a_resumed_one_keeps_its_images(tmp_path):
+    # The denoiser cleans all but the emission it keeps out, so a denoised render's default is x32 (x8 not
+    # denoised); a call's or a scene's value wins; resuming an image (denoised or not) keeps the image's.
+    assert (EDGE_SAMPLES, EDGE_SAMPLES_DENOISED) == (8, 32)
+    den = wv.render(FLAT, spp=1, seed=3, denoise=True, progress=None)
+    edge = den.aovs["samples"] > 1
+    assert den.metadata["edge_samples"] == 32 and edge.any() and np.all(den.aovs["samples"][edge] == 32)
+    assert wv.render(FLAT, spp=1, seed=3, progress=None).metadata["edge_samples"] == 8
+    assert wv.render(FLAT, spp=1, seed=3, denoise=True, edge_samples=4, progress=None).metadata["edge_samples"] == 4
+    den.save(tmp_path / "den.exr")
+    more = wv.render(FLAT, spp=2, seed=3, resume=tmp_path / "den.exr", progress=None)  # not denoised: still x32
+    kept = [a for a in den.aovs if a not in ("errors", "samples", "variance")]
+    direct = wv.render(FLAT, spp=2, seed=3, edge_samples=32, aovs=kept, progress=None)
+    assert more.metadata["edge_samples"] == 32
+    np.testing.assert_allclose(more.rgb, direct.rgb, rtol=1e-6, atol=1e-7)

@@ -9,7 +9,8 @@ import pytest
 
 import warpviz as wv
 from warpviz._native import core
-from warpviz.options import DEFAULT_OPTIONS, RENDER_OPTIONS, SCENE_OPTIONS, check_option, options_markdown
+from warpviz.options import (DEFAULT_OPTIONS, EDGE_SAMPLES, RENDER_OPTIONS, SCENE_OPTIONS, check_option,
+                             options_markdown)
 from warpviz.scene import SceneError, load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -48,7 +49,8 @@ def test_render_starts_from_the_tables_defaults():
     assert {k: v for k, v in wv.render.__globals__["DEFAULT_OPTIONS"].items() if k in DEFAULT_OPTIONS} \
         == DEFAULT_OPTIONS  # fmt: skip
     img = wv.render(load_scene_text(SCENE), spp=1, progress=None)
-    assert img.metadata["edge_samples"] == DEFAULT_OPTIONS["edge_samples"] == 8
+    assert DEFAULT_OPTIONS["edge_samples"] is None  # derived: by denoise, or the resumed image's
+    assert img.metadata["edge_samples"] == EDGE_SAMPLES == 8
     assert img.metadata["filter"] == "box" and img.metadata["filter_radius"] == 0.5
 
 
@@ -91,8 +93,8 @@ def test_a_scene_may_set_the_options_it_could_not_before():
 
 def test_the_core_reads_every_option_and_names_each_one_missing():
     native = load_scene_text(SCENE).native()
-    options = {**DEFAULT_OPTIONS, "filter_radius": 0.5, "max_drift": 1e-4, "sample_begin": 0, "threads": 1,
-               "aovs": [], "crop": None}  # fmt: skip
+    options = {**DEFAULT_OPTIONS, "filter_radius": 0.5, "max_drift": 1e-4, "edge_samples": EDGE_SAMPLES,
+               "sample_begin": 0, "threads": 1, "aovs": [], "crop": None}  # fmt: skip
     core.render(native, options)  # complete: renders
     for name in DEFAULT_OPTIONS:
         partial = {k: v for k, v in options.items() if k != name}
@@ -106,7 +108,8 @@ def test_the_flags_help_comes_from_the_table():
     from warpviz import cli
 
     text = " ".join(CliRunner().invoke(cli.app, ["render", "--help"], env={"COLUMNS": "400"}).output.split())
-    assert "In [1, 64]. Default: 8 (or the scene's [render] edge_samples)." in text
+    assert ("In [1, 64]. Default: 8, or 32 in a denoised render (a resumed render: its image's) (or the scene's "
+            "[render] edge_samples).") in text  # fmt: skip
     assert "One of 'lens', 'aimed'. Default: 'lens'" in text
     assert not math.isnan(DEFAULT_OPTIONS["tol"])
 

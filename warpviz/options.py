@@ -15,9 +15,11 @@ is one row here, one field of ``RenderOptions`` in ``integrators/render_types.h`
 
 Examples
 --------
->>> from warpviz.options import DEFAULT_OPTIONS, check_option
->>> DEFAULT_OPTIONS["edge_samples"]
-8
+>>> from warpviz.options import DEFAULT_OPTIONS, check_option, default_edge_samples
+>>> DEFAULT_OPTIONS["lens_images"]
+2
+>>> DEFAULT_OPTIONS["edge_samples"] is None, default_edge_samples(denoise=False), default_edge_samples(denoise=True)
+(True, 8, 32)
 >>> check_option("lens_images", 3)
 3
 >>> check_option("filter", "lanczos")
@@ -35,8 +37,8 @@ from typing import Any
 
 from warpviz.limits import MAX_EDGE_SAMPLES, MAX_SEED, MAX_SPP
 
-__all__ = ["DEFAULT_OPTIONS", "FILTER_RADII", "RENDER_OPTIONS", "SCENE_OPTIONS", "RenderOption", "check_option",
-           "option_help", "options_markdown"]  # fmt: skip
+__all__ = ["DEFAULT_OPTIONS", "EDGE_SAMPLES", "EDGE_SAMPLES_DENOISED", "FILTER_RADII", "RENDER_OPTIONS", "SCENE_OPTIONS",
+           "RenderOption", "check_option", "default_edge_samples", "option_help", "options_markdown"]  # fmt: skip
 
 #: The steppers (integrators/stepper.h); warpviz.tracing.STEPPERS is this tuple.
 STEPPER_NAMES = ("rk4", "dopri5", "dop853")
@@ -132,10 +134,11 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
     RenderOption("pixel_sampler", "choice", "sobol", "Where a camera sample falls in its pixel: 'sobol' "
                  "(stratified, Owen-scrambled Sobol) or 'independent' (uniform jitter).",
                  choices=("sobol", "independent")),  # fmt: skip
-    RenderOption("edge_samples", "int", 8, "Samples per pixel, as a multiple of spp, in the pixels a light's "
+    RenderOption("edge_samples", "int", None, "Samples per pixel, as a multiple of spp, in the pixels a light's "
                  "edge crosses, seen directly or in mirrors and glass, and those that see a light in glass by "
                  "some samples' Fresnel choice only (found by probe rays before rendering, so the image stays "
-                 "unbiased); 1 turns it off.", lo=1, hi=MAX_EDGE_SAMPLES, flag="--edge-samples"),  # fmt: skip
+                 "unbiased); 1 turns it off.", lo=1, hi=MAX_EDGE_SAMPLES, flag="--edge-samples",
+                 derived="8, or 32 in a denoised render (a resumed render: its image's)"),  # fmt: skip
     RenderOption("filter", "choice", "box", "Pixel reconstruction filter, by importance sampling of each "
                  "camera sample's offset.", choices=tuple(FILTER_RADII)),  # fmt: skip
     RenderOption("filter_radius", "real", None, "Half-width of the filter's support in pixels.", lo=0.0,
@@ -150,6 +153,21 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
 )
 
 _BY_NAME = {o.name: o for o in RENDER_OPTIONS}
+
+#: ``edge_samples`` of a render that is not denoised, and of one that is. The denoiser takes the noise out of
+#: everything but the lights seen directly (the ``emission`` AOV, kept out of it), so in a denoised render
+#: the lights' edges carry most of the error left and are worth more samples: fig07 at 640x480, 16 spp,
+#: denoised relative MSE 1.18e-3 at x8, 0.96e-3 at x32 for 4 % more time; fig10d at 8 spp 3.37e-3 -> 2.68e-3
+#: at equal time. Not denoised the noise of the rest dominates and x32 loses (48x36 thumbnails: fig04 2x
+#: less efficient than at x8; 640x480 fig07: equal error, 4 % more time): benchmarks/README.md, "Edge samples".
+EDGE_SAMPLES = 8
+EDGE_SAMPLES_DENOISED = 32
+
+
+def default_edge_samples(denoise: bool) -> int:
+    """``edge_samples`` where neither the call nor the scene sets it: :data:`EDGE_SAMPLES_DENOISED` for a
+    render that will be denoised, else :data:`EDGE_SAMPLES`."""
+    return EDGE_SAMPLES_DENOISED if denoise else EDGE_SAMPLES
 
 #: Every option's default (None: derived from others, see :attr:`RenderOption.derived`).
 DEFAULT_OPTIONS: dict[str, Any] = {o.name: o.default for o in RENDER_OPTIONS}

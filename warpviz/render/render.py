@@ -35,6 +35,7 @@ import numpy as np
 from warpviz._native import core
 from warpviz.limits import MAX_SPP, duration_seconds, image_side, noise_level, tolerance_problem
 from warpviz.options import DEFAULT_OPTIONS as OPTION_DEFAULTS
+from warpviz.options import default_edge_samples
 from warpviz.options import FILTER_RADII, check_option
 from warpviz.render.denoise import DENOISE_AOVS, require_denoiser
 from warpviz.render.image import Image
@@ -154,7 +155,8 @@ def render(
         in flat space).
     edge_samples : int, optional, keyword-only
         Pixels on the edge of a light, seen directly or in mirrors and glass, get ``edge_samples`` x
-        ``spp`` samples (default 8;
+        ``spp`` samples (default 8, and 32 with ``denoise=True``: the denoiser cleans everything but the
+        lights seen directly, so their edges carry most of what is left; resuming an image: its value;
         1 turns it off; at most :data:`warpviz.limits.MAX_EDGE_SAMPLES`). Where the camera sees a lamp,
         the lamp's edge inside a pixel (and a lensed lamp's thin arcs) is by far the largest noise of a
         lit room, and no light connection touches it (fig07 room: half the MSE at 16 spp in 12 of 1728
@@ -286,6 +288,17 @@ def render(
         options[name] = check_option(name, options[name])
     if options["filter_radius"] is None:
         options["filter_radius"] = FILTER_RADII[options["filter"]]
+    if not isinstance(denoise, (bool, np.bool_)):
+        raise ValueError(f"denoise must be True or False, got {denoise!r}")
+    prior = None  # the image to continue: read once, before any work
+    if resume is not None:
+        prior, prior_name = (resume, "the image") if isinstance(resume, Image) else (read_exr(resume), repr(str(resume)))
+    if options["edge_samples"] is None:  # derived: a resumed image's, else by whether the render is denoised
+        saved = prior.metadata.get("resume") if prior is not None else None
+        saved = saved.get("settings") if isinstance(saved, dict) else None
+        edge = saved.get("edge_samples") if isinstance(saved, dict) else None
+        options["edge_samples"] = edge if isinstance(edge, int) and not isinstance(edge, bool) and edge >= 1 else \
+            default_edge_samples(bool(denoise))  # fmt: skip
     problem = tolerance_problem(options["stepper"], options["tol"])
     if problem:
         raise ValueError(problem)
@@ -299,8 +312,6 @@ def render(
         if value is not None:
             options[key] = value
     options["aovs"] = _aov_names(options["aovs"])
-    if not isinstance(denoise, (bool, np.bool_)):
-        raise ValueError(f"denoise must be True or False, got {denoise!r}")
     limited = time_limit is not None or noise_target is not None
     time_limit = None if time_limit is None else duration_seconds("time_limit", time_limit)
     noise_target = None if noise_target is None else noise_level("noise_target", noise_target)
@@ -330,10 +341,9 @@ def render(
     digest = scene_sha256(native)
     start = PassesDone(film=None, spp=0, passes=0)
     seconds_before = 0.0  # a resumed image's render time
-    if resume is not None:  # checked before any work: a mismatch names what differs
-        prior, name = (resume, "the image") if isinstance(resume, Image) else (read_exr(resume), repr(str(resume)))
+    if prior is not None:  # checked before any work: a mismatch names what differs
         problem = resume_problem(prior, settings=settings, sha256=digest, aovs=options["aovs"] if aovs is not None else None,
-                                 name=name, scene=source)  # fmt: skip
+                                 name=prior_name, scene=source)  # fmt: skip
         if problem:
             raise ValueError(f"resume: {problem}")
         options["aovs"] = [a for a in OPTIONAL_AOVS if a in prior.aovs]
