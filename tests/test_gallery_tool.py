@@ -14,6 +14,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
 import make_gallery  # noqa: E402
 from warpviz.scene import load_scene  # noqa: E402
 
+ROOT = Path(__file__).resolve().parents[1]
 ROOMS = {"fig03", "fig07", "fig08", "fig10a", "fig10b", "fig10c", "fig10d", "fig10e", "fig12", "fig13"}
 
 
@@ -112,3 +113,22 @@ def test_the_companions_mark_what_the_paper_marks(tmp_path):
     # on opposite sides of the hole: the secondary image lies across the centre from the primary
     assert (x1 - cx) * (x2 - cx) + (y1 - cy) * (y2 - cy) < 0
     assert gc.companion_path(tmp_path, "fig07") is None
+
+
+def test_a_kept_picture_of_a_scene_that_has_changed_is_rendered_again(tmp_path):
+    # the kept EXR is reused only while the scene is the one it was rendered from (its recorded digest)
+    text = (ROOT / "scenes" / "fig04_einstein_ring.toml").read_text()
+    path = tmp_path / "ring.toml"
+    path.write_text(text)
+    out, work, lines = tmp_path / "pictures", tmp_path / "work", []
+    out.mkdir()
+    work.mkdir()
+    s = {"size": (8, 6), "spp": 1, "seconds": None, "denoise": False}
+    make_gallery.render_picture(load_scene(path), "ring", s, out=out, work=work, log=lines.append)
+    make_gallery.render_picture(load_scene(path), "ring", s, out=out, work=work, log=lines.append)
+    assert "done" in lines[-1] and "kept" in lines[-1]  # unchanged: kept
+    assert "fov = 40.0" in text
+    path.write_text(text.replace("fov = 40.0", "fov = 41.0"))  # a wider view: another scene
+    make_gallery.render_picture(load_scene(path), "ring", s, out=out, work=work, log=lines.append)
+    assert any("the scene has changed since ring.exr was rendered; starting again" in line for line in lines)
+    assert "kept" not in lines[-1]

@@ -19,7 +19,8 @@ Qualities (:data:`QUALITIES`):
 Resumable, picture by picture: each picture's render is kept as an EXR in ``--work`` (default
 ``build/gallery-QUALITY``, not committed) with the seconds it has had. A run that is stopped (Ctrl-C,
 SIGTERM, the end of a session) keeps the finished passes; the next run continues every picture from its
-EXR with what is left of its budget, and skips the pictures that are done. Each PNG, and the README table,
+EXR with what is left of its budget, and skips the pictures that are done (a picture whose scene file has
+changed since is rendered again). Each PNG, and the README table,
 is written as soon as its picture is done, so a gallery can be built and committed picture by picture.
 The table takes each picture's size, samples per pixel, noise and render time from the PNG's own metadata
 and names the machine; a scene not yet rendered at the quality keeps its ``ci`` picture, marked as such.
@@ -145,6 +146,12 @@ def png_metadata(path: Path) -> dict | None:
         return None
 
 
+def _scene_digest(meta: dict) -> str | None:
+    """The scene digest a kept render recorded (``resume.scene_sha256``), or None."""
+    saved = meta.get("resume")
+    return saved.get("scene_sha256") if isinstance(saved, dict) else None
+
+
 def _done(meta: dict | None, s: dict) -> bool:
     """Whether a kept render (its metadata) has had all it is asked for: its samples, or its budget."""
     if meta is None or not meta.get("completed", False):
@@ -157,10 +164,13 @@ def _done(meta: dict | None, s: dict) -> bool:
 def render_picture(scene, short: str, s: dict, *, out: Path, work: Path, log=print) -> dict:
     """Render (or continue, or reuse) one picture; write its EXR into ``work`` and its PNG into ``out``.
 
-    Returns the PNG's metadata. An interruption keeps the finished passes in the EXR and propagates.
+    A kept EXR is continued (or reused, when it has had its samples or budget) only while the scene is the
+    one it was rendered from (the digest in its header); a scene changed since is rendered again. Returns
+    the PNG's metadata. An interruption keeps the finished passes in the EXR and propagates.
     """
     import warpviz as wv
     from warpviz.render.image import Image
+    from warpviz.render.resume import scene_sha256
 
     width, height = s["size"] if s["size"] is not None else (None, None)
     aovs = ["albedo", "albedo_normal"] if s["denoise"] else []
@@ -172,6 +182,9 @@ def render_picture(scene, short: str, s: dict, *, out: Path, work: Path, log=pri
             prior = Image.open(exr)
         except ValueError:
             prior = None
+    if prior is not None and _scene_digest(prior.metadata) != scene_sha256(scene.native(width=width, height=height)):
+        log(f"{short}: the scene has changed since {exr.name} was rendered; starting again")
+        prior = None
     spent = float(prior.metadata.get("seconds") or 0.0) if prior is not None else 0.0
     if prior is not None and _done(prior.metadata, s) and png_metadata(png) is not None:
         log(f"{short}: done ({prior.metadata['spp']} spp, {spent:.0f} s), kept")
