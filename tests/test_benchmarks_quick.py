@@ -350,3 +350,14 @@ def test_benchmark_references_on_a_dask_cluster_are_the_local_ones_bit_for_bit(t
     with pytest.raises(SystemExit, match="cannot use the Dask cluster"), \
             cluster_render_options(parser.parse_args(["--workers", "1", "--cluster", "tcp://127.0.0.1:1"])):  # fmt: skip
         pass
+
+
+def test_builds_benchmark_quick_mode_compares_a_build_with_itself(tmp_path):
+    import bench_builds
+
+    rows = bench_builds.main(["--quick", "--out", str(tmp_path)])
+    assert [r["scene"] for r in rows] == ["fig03", "fig07"]
+    assert all(r["identical"] and r["a_over_b_min"] > 0 for r in rows)  # the same build: the same images
+    assert len(read_csv(tmp_path / "builds.csv")) == 2
+    with pytest.raises(SystemExit, match="no compiled core"):
+        bench_builds.main([str(tmp_path / "missing.so"), "--quick", "--out", str(tmp_path)])

@@ -16,6 +16,7 @@
 #include "core/sobol.h"
 #include "film/pixel_filter.h"
 #include "integrators/lens_connection.h"
+#include "scene/bvh.h"
 #include "scene/material.h"
 #include "spacetime/planar_orbit.h"
 
@@ -76,9 +77,50 @@ nb::dict bsdf(nb::dict material, std::vector<double> albedo, std::vector<double>
   return out;
 }
 
+// Test hook for the BVH: one built over boxes (N, 6: lo, hi); for each segment of segs (M, 8: origin,
+// direction, tmin, tmax) the primitives its traversal hands to the exact test (an accept that takes none,
+// so tmax never shrinks), and for each box of queries (K, 6) those overlapping() visits, as 0/1 arrays
+// (M, N) and (K, N) with the order of the visits (1-based) in "segment_order" / "box_order".
+nb::dict bvh_candidates(F64In boxes, F64In segs, F64In queries) {
+  if (boxes.ndim() != 2 || boxes.shape(1) != 6) throw std::invalid_argument("boxes must have shape (N, 6)");
+  if (segs.ndim() != 2 || segs.shape(1) != 8) throw std::invalid_argument("segs must have shape (M, 8)");
+  if (queries.ndim() != 2 || queries.shape(1) != 6) throw std::invalid_argument("queries must have shape (K, 6)");
+  const size_t n = boxes.shape(0), m = segs.shape(0), k = queries.shape(0);
+  auto box_at = [](const double* b) {
+    wv::Box x;
+    x.lo = wv::V3(b);
+    x.hi = wv::V3(b + 3);
+    return x;
+  };
+  std::vector<wv::Box> bs(n);
+  for (size_t i = 0; i < n; ++i) bs[i] = box_at(boxes.data() + 6 * i);
+  wv::Bvh bvh;
+  bvh.build(bs);
+  std::vector<int32_t> seg_order(m * n, 0), box_order(k * n, 0);
+  for (size_t i = 0; i < m; ++i) {
+    const double* s = segs.data() + 8 * i;
+    int32_t visits = 0;
+    wv::SegmentHit hit;
+    bvh.closest(wv::V3(s), wv::V3(s + 3), s[6], s[7], [&](int p, wv::V3, wv::V3, double, double, double&) {
+      seg_order[i * n + size_t(p)] = ++visits;
+      return false;
+    }, hit);
+  }
+  for (size_t i = 0; i < k; ++i) {
+    int32_t visits = 0;
+    bvh.overlapping(box_at(queries.data() + 6 * i), [&](int p) { box_order[i * n + size_t(p)] = ++visits; });
+  }
+  nb::dict out;
+  out["segment_order"] = to_numpy(std::move(seg_order), {m, n});
+  out["box_order"] = to_numpy(std::move(box_order), {k, n});
+  return out;
+}
+
 }  // namespace
 
 void bind_testing(nb::module_& m) {
+  m.def("bvh_candidates", &bvh_candidates, "boxes"_a, "segs"_a, "queries"_a,
+        "BVH test hook: the primitives a segment's traversal and a box query hand on, in visit order.");
   m.def("bsdf", &bsdf, "material"_a, "albedo"_a, "n"_a, "wo"_a, "u"_a, "at"_a,
         "Sample and evaluate one material's BSDF in a local frame.");
   m.def(

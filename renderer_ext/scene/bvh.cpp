@@ -8,6 +8,7 @@ namespace wv {
 // a room (tens of quads) that costs fewer instructions than descending a tree whose boxes all span the
 // room (callgrind: fig07 -4.6 % for the whole render, the Mitsuba box -1.6 %).
 constexpr int32_t kLinearScene = 32;
+static_assert(kLinearScene <= 64, "the single leaf's SIMD masks are 64 bits");
 
 void Bvh::build(const std::vector<Box>& boxes) {
   nodes_.clear();
@@ -23,6 +24,21 @@ void Bvh::build(const std::vector<Box>& boxes) {
   }
   nodes_.reserve(2 * boxes.size());
   build_node(boxes, centroids, 0, int32_t(boxes.size()));
+  leaf_soa_.clear();
+  leaf_count_ = 0;
+  if (nodes_[0].count > 2) {  // the single leaf of a small scene: its boxes in blocks of four, in order_
+    leaf_count_ = nodes_[0].count;
+    const Box empty;
+    leaf_soa_.assign(size_t(24) * ((leaf_count_ + 3) / 4), 0.0);
+    for (int32_t k = 0; k < 4 * ((leaf_count_ + 3) / 4); ++k) {
+      const Box& b = k < leaf_count_ ? boxes[order_[k]] : empty;
+      double* s = leaf_soa_.data() + 24 * (k / 4) + k % 4;
+      for (int a = 0; a < 3; ++a) {
+        s[4 * a] = b.lo[a];
+        s[12 + 4 * a] = b.hi[a];
+      }
+    }
+  }
 }
 
 int32_t Bvh::build_node(const std::vector<Box>& boxes, std::vector<V3>& centroids, int32_t first, int32_t count) {

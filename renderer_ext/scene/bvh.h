@@ -6,6 +6,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/simd.h"
 #include "scene/shapes.h"
 
 namespace wv {
@@ -22,6 +23,59 @@ struct SegmentHit {
   int prim = -1;
   double t = 0.0;
 };
+
+// The single leaf's box tests, four boxes per SIMD operation (soa: the leaf's boxes in blocks of four,
+// lo.x[4] lo.y[4] lo.z[4] hi.x[4] hi.y[4] hi.z[4]; bit k of the result: box k passes). Inline, so a metric
+// plugin, which instantiates the traversal itself, compiles them too (for its own instruction set); the
+// core picks its clone at load (WV_LANE_CLONES). The same IEEE operations as Bvh::slab and overlapping()'s
+// scalar test, so the same answers (tests/test_bvh.py).
+namespace bvh_simd {
+
+typedef double V4 __attribute__((vector_size(32)));
+typedef long long M4 __attribute__((vector_size(32)));
+
+WV_LANE_CLONES inline uint64_t segment_mask(const double* soa, int32_t count, const double* o, const double* inv,
+                                            double tmin, double tmax) {
+  uint64_t mask = 0;
+  for (int32_t blk = 0; 4 * blk < count; ++blk) {
+    const double* s = soa + 24 * blk;
+    V4 lo = {tmin, tmin, tmin, tmin}, hi = {tmax, tmax, tmax, tmax};
+    for (int a = 0; a < 3; ++a) {
+      V4 bl, bh;
+      __builtin_memcpy(&bl, s + 4 * a, sizeof bl);
+      __builtin_memcpy(&bh, s + 12 + 4 * a, sizeof bh);
+      const V4 t0 = (bl - o[a]) * inv[a], t1 = (bh - o[a]) * inv[a];
+      const M4 swap = t0 > t1;  // (NaN: no swap, no update, as in Bvh::slab)
+      const V4 near = swap ? t1 : t0, far = swap ? t0 : t1;
+      lo = near > lo ? near : lo;
+      hi = far < hi ? far : hi;
+    }
+    // tmin only grows and tmax only shrinks over the axes, so one test at the end is slab()'s per-axis exit
+    const M4 miss = lo > hi * (1.0 + 4e-16) + 1e-300;
+    for (int i = 0; i < 4; ++i)
+      if (!miss[i] && 4 * blk + i < count) mask |= uint64_t(1) << (4 * blk + i);
+  }
+  return mask;
+}
+
+WV_LANE_CLONES inline uint64_t box_mask(const double* soa, int32_t count, const double* blo, const double* bhi) {
+  uint64_t mask = 0;
+  for (int32_t blk = 0; 4 * blk < count; ++blk) {
+    const double* s = soa + 24 * blk;
+    M4 apart = {0, 0, 0, 0};
+    for (int a = 0; a < 3; ++a) {
+      V4 pl, ph;
+      __builtin_memcpy(&pl, s + 4 * a, sizeof pl);
+      __builtin_memcpy(&ph, s + 12 + 4 * a, sizeof ph);
+      apart |= (pl > bhi[a]) | (blo[a] > ph);
+    }
+    for (int i = 0; i < 4; ++i)
+      if (!apart[i] && 4 * blk + i < count) mask |= uint64_t(1) << (4 * blk + i);
+  }
+  return mask;
+}
+
+}  // namespace bvh_simd
 
 class Bvh {
  public:
@@ -42,10 +96,23 @@ class Bvh {
       const BvhNode& nd = nodes_[stack[--sp]];
       if (!slab(nd.box, o, inv, tmin, tmax)) continue;
       if (nd.count > 0) {
+        if (nd.count > 2) {  // a small scene's single leaf (bvh.cpp, kLinearScene): its boxes in SIMD first
+          // (a box the segment meets up to the first tmax, in order; accept() then holds each to the
+          // current tmax, so the closest hit is the one the one-box-at-a-time scan found)
+          for (uint64_t m = leaf_segment_mask(o, inv, tmin, tmax); m != 0; m &= m - 1) {
+            const int32_t p = order_[nd.first + __builtin_ctzll(m)];
+            double t;
+            if (accept(p, o, d, tmin, tmax, t)) {
+              tmax = t;
+              hit.prim = p;
+              hit.t = t;
+              found = true;
+            }
+          }
+          continue;
+        }
         for (int32_t k = nd.first; k < nd.first + nd.count; ++k) {
           double t;
-          // (a small scene's single leaf: each primitive's box first; bvh.cpp, kLinearScene)
-          if (nd.count > 2 && !slab(prim_boxes_[order_[k]], o, inv, tmin, tmax)) continue;
           if (accept(order_[k], o, d, tmin, tmax, t)) {
             tmax = t;
             hit.prim = order_[k];
@@ -74,7 +141,9 @@ class Bvh {
       if (a.lo.x > b.hi.x || b.lo.x > a.hi.x || a.lo.y > b.hi.y || b.lo.y > a.hi.y || a.lo.z > b.hi.z ||
           b.lo.z > a.hi.z)
         continue;
-      if (nd.count > 0) {
+      if (nd.count > 2) {  // the small scene's single leaf: its boxes in SIMD
+        for (uint64_t m = leaf_box_mask(b); m != 0; m &= m - 1) visit(order_[nd.first + __builtin_ctzll(m)]);
+      } else if (nd.count > 0) {
         for (int32_t k = nd.first; k < nd.first + nd.count; ++k) {
           const Box& pb = prim_boxes_[order_[k]];
           if (pb.lo.x > b.hi.x || b.lo.x > pb.hi.x || pb.lo.y > b.hi.y || b.lo.y > pb.hi.y || pb.lo.z > b.hi.z ||
@@ -105,10 +174,25 @@ class Bvh {
     return true;
   }
   int32_t build_node(const std::vector<Box>& boxes, std::vector<V3>& centroids, int32_t first, int32_t count);
+  // The single leaf of a small scene (the root, when it is a leaf of more than 2 primitives; at most
+  // 32, bvh.cpp's kLinearScene): bit k set where the box of order_[k] passes slab() for the segment / overlaps box b,
+  // four boxes per SIMD test (the same IEEE operations as slab() and overlapping()'s scalar test, so
+  // the same answers).
+  uint64_t leaf_segment_mask(V3 o, V3 inv, double tmin, double tmax) const {
+    const double oo[3] = {o.x, o.y, o.z}, ii[3] = {inv.x, inv.y, inv.z};
+    return bvh_simd::segment_mask(leaf_soa_.data(), leaf_count_, oo, ii, tmin, tmax);
+  }
+  uint64_t leaf_box_mask(const Box& b) const {
+    const double lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+    return bvh_simd::box_mask(leaf_soa_.data(), leaf_count_, lo, hi);
+  }
 
   std::vector<BvhNode> nodes_;
   std::vector<int32_t> order_;
   std::vector<Box> prim_boxes_;
+  // The single leaf's boxes in blocks of four: lo.x[4] lo.y[4] lo.z[4] hi.x[4] hi.y[4] hi.z[4] per block.
+  std::vector<double> leaf_soa_;
+  int32_t leaf_count_ = 0;
   Box root_box_;
 };
 

@@ -28,13 +28,15 @@ BENCH_SUITES = {
     "dask": "bench_dask.py",
     "line-element": "bench_line_element.py",
     "gravity-cost": "bench_gravity_cost.py",
+    "builds": "bench_builds.py",
 }
 
 
 @app.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
 def bench(ctx: typer.Context) -> None:
     """Run a benchmark: `warpviz bench SUITE OPTIONS`, SUITE one of geodesics, work-precision, render, skips,
-    light-connection, mitsuba-cornell, denoise, edge-samples, time-to-clean, dask, line-element, gravity-cost.
+    light-connection, mitsuba-cornell, denoise, edge-samples, time-to-clean, dask, line-element, gravity-cost,
+    builds.
 
     Without a SUITE it runs the far-observer geodesic benchmark (benchmarks/bench_geodesics.py); every
     suite takes its own options after the name, e.g. `warpviz bench --size 32` or

@@ -1,0 +1,129 @@
+"""Two builds of the compiled core against each other: CPU time of the same renders, alternating.
+
+A change to the C++ core is measured by timing the build before it (A) and after it (B) on the same
+renders in one run, A, B, A, B, ... (a shared machine's load then falls on both alike), one render per
+process with that build's ``_core`` loaded in place of the installed one. Reports the min and median CPU
+seconds of each and the ratio A / B (above 1: B is faster), and whether the two builds' images are
+bit-identical (a change that should not move a pixel is checked by the same run).
+
+    cp build/*/_core*.so /tmp/core_before.so        # before the change
+    pip install --no-build-isolation -e .           # build the change
+    python benchmarks/bench_builds.py /tmp/core_before.so build/*/_core*.so
+    python benchmarks/bench_builds.py A.so B.so --renders mitsuba:128x128:64,fig03:160x120:32 --repeat 5
+    python benchmarks/bench_builds.py --quick       # the installed build against itself (seconds)
+
+Writes ``builds.csv`` (one row per render) to ``--out`` (default benchmarks/results) and prints a table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+# (_common imports warpviz, so only the parent process imports it: a child must load its build first)
+RESULTS = Path(__file__).resolve().parent / "results"
+
+#: scene:WIDTHxHEIGHT:SPP of the default renders: Mitsuba's box and the flat room (the flat path), fig07
+#: (Schwarzschild, closed-form segments) and fig10d (Kerr, integrated).
+DEFAULT_RENDERS = "mitsuba:128x128:64,fig03:160x120:32,fig07:96x72:16,fig10d:96x72:16"
+
+
+def _child(core: str, scene: str, size: str, spp: int, image: str) -> None:
+    """In a fresh process: load ``core`` as warpviz._core, render on one thread, print the CPU seconds."""
+    import importlib.util
+    import time
+
+    spec = importlib.util.spec_from_file_location("warpviz._core", core)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["warpviz._core"] = module
+    spec.loader.exec_module(module)
+    import warpviz as wv
+
+    if Path(wv._native.core.__file__).resolve() != Path(core).resolve():
+        raise SystemExit(f"warpviz loaded {wv._native.core.__file__}, not {core}")
+    w, h = (int(v) for v in size.split("x"))
+    t0 = time.process_time()
+    img = wv.render(scene, width=w, height=h, spp=spp, seed=1, progress=None, threads=1)
+    seconds = time.process_time() - t0
+    np.save(image, img.rgb)
+    print(json.dumps({"cpu_s": seconds}))
+
+
+def installed_core() -> Path:
+    """The installed build's compiled core."""
+    from warpviz import _native
+
+    return Path(_native.core.__file__)
+
+
+def measure(a: Path, b: Path, renders: list[tuple[str, str, int]], repeat: int) -> list[dict]:
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for scene, size, spp in renders:
+            times: dict[str, list[float]] = {"a": [], "b": []}
+            for _ in range(repeat):
+                for name, core in (("a", a), ("b", b)):
+                    out = subprocess.run([sys.executable, __file__, "--child", str(core), scene, size, str(spp),
+                                          f"{tmp}/{name}.npy"], capture_output=True, text=True)  # fmt: skip
+                    if out.returncode != 0:
+                        raise SystemExit(f"the render of {scene} with {core} failed:\n{out.stderr}")
+                    times[name].append(json.loads(out.stdout.strip().splitlines()[-1])["cpu_s"])
+            same = bool(np.array_equal(np.load(f"{tmp}/a.npy"), np.load(f"{tmp}/b.npy")))
+            rows.append({"scene": scene, "size": size, "spp": spp, "repeat": repeat,
+                         "a_cpu_s_min": min(times["a"]), "a_cpu_s_median": float(np.median(times["a"])),
+                         "b_cpu_s_min": min(times["b"]), "b_cpu_s_median": float(np.median(times["b"])),
+                         "a_over_b_min": min(times["a"]) / min(times["b"]),
+                         "a_over_b_median": float(np.median(times["a"]) / np.median(times["b"])),
+                         "identical": same})  # fmt: skip
+    return rows
+
+
+def main(argv: list[str] | None = None) -> list[dict]:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("a", nargs="?", type=Path, help="the core before (a _core*.so); default: the installed one")
+    p.add_argument("b", nargs="?", type=Path, help="the core after; default: the installed one")
+    p.add_argument("--renders", default=None, help=f"comma-separated scene:WIDTHxHEIGHT:SPP (default {DEFAULT_RENDERS})")
+    p.add_argument("--repeat", type=int, default=None, help="timings of each build per render (default 3)")
+    p.add_argument("--quick", action="store_true", help="one tiny render of each (seconds; for tests)")
+    p.add_argument("--out", type=Path, default=RESULTS)
+    args = p.parse_args(argv)
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from _common import machine_line, write_csv
+
+    a = args.a or installed_core()
+    b = args.b or installed_core()
+    for core in (a, b):
+        if not Path(core).is_file():
+            raise SystemExit(f"no compiled core at {core}")
+    spec = args.renders or ("fig03:16x12:2,fig07:8x6:1" if args.quick else DEFAULT_RENDERS)
+    renders = []
+    for item in spec.split(","):
+        scene, size, spp = item.split(":")
+        renders.append((scene, size, int(spp)))
+    repeat = args.repeat or (1 if args.quick else 3)
+    print(machine_line(threads=1))
+    rows = measure(Path(a), Path(b), renders, repeat)
+    print(f"A = {a}\nB = {b}")
+    print(f"{'scene':8s} {'size':>9s} {'spp':>4s} {'A min/med s':>13s} {'B min/med s':>13s} {'A/B min':>8s} "
+          f"{'A/B med':>8s}  identical")  # fmt: skip
+    for r in rows:
+        print(f"{r['scene']:8s} {r['size']:>9s} {r['spp']:4d} {r['a_cpu_s_min']:6.2f}/{r['a_cpu_s_median']:<6.2f} "
+              f"{r['b_cpu_s_min']:6.2f}/{r['b_cpu_s_median']:<6.2f} {r['a_over_b_min']:8.3f} {r['a_over_b_median']:8.3f}"
+              f"  {r['identical']}")  # fmt: skip
+    args.out.mkdir(parents=True, exist_ok=True)
+    write_csv(args.out / "builds.csv", rows)
+    return rows
+
+
+if __name__ == "__main__":
+    if len(sys.argv) > 1 and sys.argv[1] == "--child":
+        _child(sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5]), sys.argv[6])
+    else:
+        main()
+    raise SystemExit(0)
