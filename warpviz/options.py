@@ -169,6 +169,7 @@ def default_edge_samples(denoise: bool) -> int:
     render that will be denoised, else :data:`EDGE_SAMPLES`."""
     return EDGE_SAMPLES_DENOISED if denoise else EDGE_SAMPLES
 
+
 #: Every option's default (None: derived from others, see :attr:`RenderOption.derived`).
 DEFAULT_OPTIONS: dict[str, Any] = {o.name: o.default for o in RENDER_OPTIONS}
 

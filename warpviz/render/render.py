@@ -35,8 +35,7 @@ import numpy as np
 from warpviz._native import core
 from warpviz.limits import MAX_SPP, duration_seconds, image_side, noise_level, tolerance_problem
 from warpviz.options import DEFAULT_OPTIONS as OPTION_DEFAULTS
-from warpviz.options import default_edge_samples
-from warpviz.options import FILTER_RADII, check_option
+from warpviz.options import FILTER_RADII, check_option, default_edge_samples
 from warpviz.render.denoise import DENOISE_AOVS, require_denoiser
 from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
