@@ -146,12 +146,6 @@ def png_metadata(path: Path) -> dict | None:
         return None
 
 
-def _scene_digest(meta: dict) -> str | None:
-    """The scene digest a kept render recorded (``resume.scene_sha256``), or None."""
-    saved = meta.get("resume")
-    return saved.get("scene_sha256") if isinstance(saved, dict) else None
-
-
 def _done(meta: dict | None, s: dict) -> bool:
     """Whether a kept render (its metadata) has had all it is asked for: its samples, or its budget."""
     if meta is None or not meta.get("completed", False):
@@ -170,7 +164,7 @@ def render_picture(scene, short: str, s: dict, *, out: Path, work: Path, log=pri
     """
     import warpviz as wv
     from warpviz.render.image import Image
-    from warpviz.render.resume import scene_sha256
+    from warpviz.render.resume import saved_resume, scene_sha256
 
     width, height = s["size"] if s["size"] is not None else (None, None)
     aovs = ["albedo", "albedo_normal"] if s["denoise"] else []
@@ -182,7 +176,8 @@ def render_picture(scene, short: str, s: dict, *, out: Path, work: Path, log=pri
             prior = Image.open(exr)
         except ValueError:
             prior = None
-    if prior is not None and _scene_digest(prior.metadata) != scene_sha256(scene.native(width=width, height=height)):
+    if prior is not None and (saved_resume(prior.metadata).get("scene_sha256")
+                              != scene_sha256(scene.native(width=width, height=height))):
         log(f"{short}: the scene has changed since {exr.name} was rendered; starting again")
         prior = None
     spent = float(prior.metadata.get("seconds") or 0.0) if prior is not None else 0.0

@@ -25,13 +25,12 @@ void Bvh::build(const std::vector<Box>& boxes) {
   nodes_.reserve(2 * boxes.size());
   build_node(boxes, centroids, 0, int32_t(boxes.size()));
   leaf_soa_.clear();
-  leaf_count_ = 0;
-  if (nodes_[0].count > 2) {  // the single leaf of a small scene: its boxes in blocks of four, in order_
-    leaf_count_ = nodes_[0].count;
+  const int32_t leaf = nodes_[0].count;
+  if (leaf > 2) {  // the single leaf of a small scene: its boxes in blocks of four, in order_
     const Box empty;
-    leaf_soa_.assign(size_t(24) * ((leaf_count_ + 3) / 4), 0.0);
-    for (int32_t k = 0; k < 4 * ((leaf_count_ + 3) / 4); ++k) {
-      const Box& b = k < leaf_count_ ? boxes[order_[k]] : empty;
+    leaf_soa_.assign(size_t(24) * ((leaf + 3) / 4), 0.0);
+    for (int32_t k = 0; k < 4 * ((leaf + 3) / 4); ++k) {
+      const Box& b = k < leaf ? boxes[order_[k]] : empty;
       double* s = leaf_soa_.data() + 24 * (k / 4) + k % 4;
       for (int a = 0; a < 3; ++a) {
         s[4 * a] = b.lo[a];

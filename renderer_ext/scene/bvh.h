@@ -99,7 +99,7 @@ class Bvh {
         if (nd.count > 2) {  // a small scene's single leaf (bvh.cpp, kLinearScene): its boxes in SIMD first
           // (a box the segment meets up to the first tmax, in order; accept() then holds each to the
           // current tmax, so the closest hit is the one the one-box-at-a-time scan found)
-          for (uint64_t m = leaf_segment_mask(o, inv, tmin, tmax); m != 0; m &= m - 1) {
+          for (uint64_t m = leaf_segment_mask(nd.count, o, inv, tmin, tmax); m != 0; m &= m - 1) {
             const int32_t p = order_[nd.first + __builtin_ctzll(m)];
             double t;
             if (accept(p, o, d, tmin, tmax, t)) {
@@ -142,7 +142,7 @@ class Bvh {
           b.lo.z > a.hi.z)
         continue;
       if (nd.count > 2) {  // the small scene's single leaf: its boxes in SIMD
-        for (uint64_t m = leaf_box_mask(b); m != 0; m &= m - 1) visit(order_[nd.first + __builtin_ctzll(m)]);
+        for (uint64_t m = leaf_box_mask(nd.count, b); m != 0; m &= m - 1) visit(order_[nd.first + __builtin_ctzll(m)]);
       } else if (nd.count > 0) {
         for (int32_t k = nd.first; k < nd.first + nd.count; ++k) {
           const Box& pb = prim_boxes_[order_[k]];
@@ -174,17 +174,15 @@ class Bvh {
     return true;
   }
   int32_t build_node(const std::vector<Box>& boxes, std::vector<V3>& centroids, int32_t first, int32_t count);
-  // The single leaf of a small scene (the root, when it is a leaf of more than 2 primitives; at most
-  // 32, bvh.cpp's kLinearScene): bit k set where the box of order_[k] passes slab() for the segment / overlaps box b,
-  // four boxes per SIMD test (the same IEEE operations as slab() and overlapping()'s scalar test, so
-  // the same answers).
-  uint64_t leaf_segment_mask(V3 o, V3 inv, double tmin, double tmax) const {
+  // The single leaf of a small scene (the root, a leaf of `count` > 2 primitives, at most bvh.cpp's
+  // kLinearScene): bit k set where the box of order_[k] passes slab() for the segment / overlaps box b.
+  uint64_t leaf_segment_mask(int32_t count, V3 o, V3 inv, double tmin, double tmax) const {
     const double oo[3] = {o.x, o.y, o.z}, ii[3] = {inv.x, inv.y, inv.z};
-    return bvh_simd::segment_mask(leaf_soa_.data(), leaf_count_, oo, ii, tmin, tmax);
+    return bvh_simd::segment_mask(leaf_soa_.data(), count, oo, ii, tmin, tmax);
   }
-  uint64_t leaf_box_mask(const Box& b) const {
+  uint64_t leaf_box_mask(int32_t count, const Box& b) const {
     const double lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
-    return bvh_simd::box_mask(leaf_soa_.data(), leaf_count_, lo, hi);
+    return bvh_simd::box_mask(leaf_soa_.data(), count, lo, hi);
   }
 
   std::vector<BvhNode> nodes_;
@@ -192,7 +190,6 @@ class Bvh {
   std::vector<Box> prim_boxes_;
   // The single leaf's boxes in blocks of four: lo.x[4] lo.y[4] lo.z[4] hi.x[4] hi.y[4] hi.z[4] per block.
   std::vector<double> leaf_soa_;
-  int32_t leaf_count_ = 0;
   Box root_box_;
 };
 

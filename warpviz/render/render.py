@@ -40,7 +40,8 @@ from warpviz.render.denoise import DENOISE_AOVS, require_denoiser
 from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
 from warpviz.render.passes import PASS_SAMPLES, PassesDone, PassReport, concat_rays, pass_plan, run_passes
-from warpviz.render.resume import film_from_image, read_exr, resume_problem, resume_settings, scene_sha256
+from warpviz.render.resume import (film_from_image, read_exr, resume_problem, resume_settings, saved_resume,
+                                   scene_sha256)
 from warpviz.scene.native import native_scene, scene_emits
 from warpviz.spacetime import metric_from_params
 from warpviz.tracing import RayBundle, default_max_drift, recorded_point_data
@@ -293,8 +294,7 @@ def render(
     if resume is not None:
         prior, prior_name = (resume, "the image") if isinstance(resume, Image) else (read_exr(resume), repr(str(resume)))
     if options["edge_samples"] is None:  # derived: a resumed image's, else by whether the render is denoised
-        saved = prior.metadata.get("resume") if prior is not None else None
-        saved = saved.get("settings") if isinstance(saved, dict) else None
+        saved = saved_resume(prior.metadata).get("settings") if prior is not None else None
         edge = saved.get("edge_samples") if isinstance(saved, dict) else None
         options["edge_samples"] = edge if isinstance(edge, int) and not isinstance(edge, bool) and edge >= 1 else \
             default_edge_samples(bool(denoise))  # fmt: skip

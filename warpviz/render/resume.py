@@ -29,7 +29,8 @@ import numpy as np
 
 from warpviz.render.image import read_exr  # here too: resuming starts from one
 
-__all__ = ["RESUME_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "resume_problem", "film_from_image"]
+__all__ = ["RESUME_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "saved_resume", "resume_problem",
+           "film_from_image"]
 
 #: The render options that decide what each sample adds (so a resumed image must have been rendered with
 #: the same); spp, threads, batch (bit-identical either way), progress and the limits do not.
@@ -80,6 +81,13 @@ def resume_settings(options: dict, native: dict) -> dict:
     return json.loads(json.dumps(out))
 
 
+
+
+def saved_resume(meta: dict) -> dict:
+    """The resume record of an image's ``warpviz`` metadata (``settings``, ``scene_sha256``, ``passes``, ...),
+    or {} where the image has none (not written by a resumable render)."""
+    saved = meta.get("resume")
+    return saved if isinstance(saved, dict) else {}
 
 
 def resume_problem(img, *, settings: dict, sha256: str, aovs: list[str] | None, name: str,
