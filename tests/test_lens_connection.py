@@ -193,27 +193,83 @@ def test_flat_space_keeps_its_connection_bit_for_bit():
     assert np.array_equal(a.rgb, b.rgb)
 
 
-def test_kerr_image_proxies_keep_the_mean_and_lower_the_noise():
-    """Kerr has no plane reduction: its images start from the Schwarzschild map of the same mass and are
-    refined on pilot geodesics; the proxies around them are densities over directions (measured: 5x lower
-    variance than the aimed proxies here, the same mean as brute force)."""
-    sc = room(metric("kerr", 1.0, 0.9), size=(12, 9), light=3.0, spheres=False)
-    lens = _image_means(sc, range(12), spp=8, max_depth=3)
+@pytest.mark.parametrize("spin", [0.9, 0.99])
+def test_kerr_lens_proposal_and_image_proxies_keep_the_mean_and_lower_the_noise(spin):
+    """Kerr has no plane reduction. As a proposal ('lens'), the Schwarzschild connection of the same mass
+    draws the directions and its density is evaluated where each direction's Schwarzschild orbit first crosses
+    the light; the image proxies ('images') are refined on pilot geodesics. Both are densities over directions
+    and keep the mean of brute force; both lower the noise of the aimed proxies (measured here at a = 0.9:
+    'lens' 0.27x, 'images' 0.21x their variance)."""
+    sc = room(metric("kerr", 1.0, spin), size=(12, 9), light=3.0, spheres=False)
     brute = _image_means(sc, range(12, 36), spp=8, max_depth=3, light_sampling=False)
-    aimed = _image_means(sc, range(36, 48), spp=8, max_depth=3, light_connection="aimed")
-    assert_same_mean(lens, brute, slack=2e-3 * brute.mean())
-    assert_same_mean(lens, aimed, slack=2e-3 * aimed.mean())
+    for lc, seeds in (("lens", range(12)), ("images", range(36, 48))):
+        means = _image_means(sc, seeds, spp=8, max_depth=3, light_connection=lc)
+        assert_same_mean(means, brute, slack=2e-3 * brute.mean())
 
     def frames(lc):
         return np.stack([wv.render(sc, spp=8, seed=s, max_depth=3, light_connection=lc).rgb
                          for s in range(6)]).astype(np.float64)
 
-    assert frames("lens").var(axis=0).mean() < 0.5 * frames("aimed").var(axis=0).mean()
+    aimed = frames("aimed").var(axis=0).mean()
+    assert frames("lens").var(axis=0).mean() < 0.5 * aimed
+    assert frames("images").var(axis=0).mean() < 0.5 * aimed
+
+
+def test_kerr_lens_proposal_at_zero_spin_is_the_exact_connection():
+    """At a = 0 Kerr is Schwarzschild and the proposal's samples all reach the light: the same noise as the
+    exact lens connection in the same room, and the same mean."""
+    kerr = room(metric("kerr", 1.0, 0.0), size=(12, 9), light=3.0, spheres=False)
+    schw = room(metric("schwarzschild", 1.0), size=(12, 9), light=3.0, spheres=False)
+
+    def frames(sc, lc, seeds):
+        return np.stack([wv.render(sc, spp=8, seed=s, max_depth=2, light_connection=lc, edge_samples=1).rgb
+                         for s in seeds]).astype(np.float64)
+
+    k, s = frames(kerr, "lens", range(10)), frames(schw, "lens", range(10, 20))
+    assert_same_mean(k, s, slack=2e-3 * s.mean())
+    ratio = k.var(axis=0).mean() / s.var(axis=0).mean()
+    assert 0.8 < ratio < 1.25, ratio
+
+
+def test_light_crossing_finds_the_point_whose_image_a_direction_is():
+    """B_S(w) of the Kerr proposal (integrators/lens_proposal.h): the images of a point on the lamp lead back
+    to it (the direct one, and the one round the far side where no earlier crossing is in the way), and any
+    direction whose orbit crosses the lamp is an image of the crossing point, of the order its sweep says."""
+    mass = 1.0
+    corner, eu, ev = np.array([-3.0, -3.0, 8.0]), np.array([0.0, 6.0, 0.0]), np.array([6.0, 0.0, 0.0])
+    rng = np.random.default_rng(5)
+    a = np.array([2.0, -7.0, -6.0])
+    normal_a = np.array([0.0, 0.0, 1.0])
+    for _ in range(20):
+        b = corner + rng.uniform() * eu + rng.uniform() * ev
+        im = testing.lens_images("schwarzschild", [mass], a, 1, normal_a, b, np.array([0.0, 0.0, -1.0]), 1, 36.0,
+                                 True, 2)
+        x = testing.light_crossing(mass, a, im["directions"][0], corner, eu, ev, 2)
+        assert x is not None and np.linalg.norm(x[0] - b) < 1e-7 and x[1] < math.pi
+        x = testing.light_crossing(mass, a, im["directions"][1], corner, eu, ev, 2)
+        assert x is not None and np.linalg.norm(x[0] - b) < 1e-7 and math.pi < x[1] < 2 * math.pi
+        assert testing.light_crossing(mass, a, im["directions"][1], corner, eu, ev, 1) is None
+    hits = 0
+    for _ in range(200):  # towards the lamp and around it (lensing moves it), some through the hole
+        w = corner + rng.uniform(-1, 2) * eu + rng.uniform(-1, 2) * ev - a
+        w /= np.linalg.norm(w)
+        x = testing.light_crossing(mass, a, w, corner, eu, ev, 2)
+        if x is None:
+            continue
+        hits += 1
+        pos, sweep = x
+        rel = np.linalg.solve(np.stack([eu, ev, np.cross(eu, ev)], axis=1), pos - corner)
+        assert -1e-9 <= rel[0] <= 1 + 1e-9 and -1e-9 <= rel[1] <= 1 + 1e-9 and abs(rel[2]) < 1e-9
+        im = testing.lens_images("schwarzschild", [mass], a, 1, normal_a, pos, np.array([0.0, 0.0, -1.0]), 1,
+                                 36.0, True, 2)
+        order = int(sweep // math.pi)
+        assert np.dot(im["directions"][order], w) > 1 - 1e-10, (order, sweep)
+    assert hits > 10
 
 
 def test_light_connection_options_are_validated():
     sc = room(metric("schwarzschild", 1.0), size=(4, 3))
-    with pytest.raises(ValueError, match="light_connection must be one of 'lens', 'aimed', got 'exact'"):
+    with pytest.raises(ValueError, match="light_connection must be one of 'lens', 'images', 'aimed', got 'exact'"):
         wv.render(sc, spp=1, light_connection="exact")
     with pytest.raises(ValueError, match=r"lens_images must be an integer in \[1, 4\], got 5"):
         wv.render(sc, spp=1, lens_images=5)

@@ -110,7 +110,7 @@ def test_the_flags_help_comes_from_the_table():
     text = " ".join(CliRunner().invoke(cli.app, ["render", "--help"], env={"COLUMNS": "400"}).output.split())
     assert ("In [1, 64]. Default: 8, or 32 in a denoised render (a resumed render: its image's) (or the scene's "
             "[render] edge_samples).") in text  # fmt: skip
-    assert "One of 'lens', 'aimed'. Default: 'lens'" in text
+    assert "One of 'lens', 'images', 'aimed'. Default: 'lens'" in text
     assert not math.isnan(DEFAULT_OPTIONS["tol"])
 
 

@@ -281,8 +281,9 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.pilot_tol = option<double>(options, "pilot_tol");
   {
     const std::string lc = option<std::string>(options, "light_connection");
-    if (lc != "lens" && lc != "aimed") throw std::invalid_argument("light_connection must be 'lens' or 'aimed', got '" + lc + "'");
-    o.light_connection = lc == "lens" ? wv::kLensConnection : wv::kAimedConnection;
+    if (lc != "lens" && lc != "images" && lc != "aimed")
+      throw std::invalid_argument("light_connection must be 'lens', 'images' or 'aimed', got '" + lc + "'");
+    o.light_connection = lc == "lens" ? wv::kLensConnection : lc == "images" ? wv::kImageConnection : wv::kAimedConnection;
   }
   o.lens_images = option<int>(options, "lens_images");
   {

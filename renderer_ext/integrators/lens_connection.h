@@ -24,6 +24,7 @@
 #include <cmath>
 
 #include "core/vec3.h"
+#include "integrators/lens_proposal.h"
 #include "integrators/segment.h"
 #include "scene/light.h"
 #include "scene/material.h"
@@ -197,22 +198,34 @@ inline double lens_pdf(const SphericalLens& lens, const LensVertex& v, V3 w, con
 template <class M>
 class LensConnection {
  public:
-  LensConnection(const M& m, const Scene& sc, int orders)
+  // With `proposal`, a metric with a lens proxy (Kerr) uses the proxy's connection as a proposal
+  // (lens_proposal.h) where every light is planar.
+  LensConnection(const M& m, const Scene& sc, int orders, bool proposal)
       : sc_(sc), orders_(std::clamp(orders, 1, LensImages::kMax)) {
-    if constexpr (M::kStaticSpherical) lens_ = m.spherical_lens();
+    if constexpr (M::kStaticSpherical) {
+      lens_ = m.spherical_lens();
+    } else if constexpr (M::kLensProxy) {
+      lens_ = m.lens_proxy();
+      proposal_mass_ = lens_.cubic_mass();
+      proposal_ = proposal && proposal_mass_ > 0.0 && !sc.lights.empty() &&
+                  std::all_of(sc.lights.begin(), sc.lights.end(), [&](int p) { return proposal_light(sc, p); });
+    }
   }
 
   // Whether the connection applies at vertex e (else the aimed proxies do): the metric is static and
-  // spherical and e lies outside the innermost sphere its lens map covers (by 5 %). A choice made from the
-  // vertex alone, so both strategies agree on it.
+  // spherical and e lies outside the innermost sphere its lens map covers (by 5 %); or the proxy's
+  // connection is a proposal here and e lies outside 1.3 times the proxy's photon sphere (where Kerr's
+  // images still lie near the proxy's). A choice made from the vertex alone, so both strategies agree on it.
   bool applies(const SegmentEnd& e) const {
-    if constexpr (!M::kStaticSpherical) {
-      (void)e;
-      return false;
-    } else {
+    if constexpr (M::kStaticSpherical) {
       return lens_.u_inner > 0.0 && length(e.pos) * lens_.u_inner > 1.05;
+    } else {
+      return proposal_ && length(e.pos) * lens_.u_inner > 1.3;
     }
   }
+
+  // Whether the connection is the proxy's as a proposal (the geodesic need not reach the point it aimed at).
+  bool proposal() const { return proposal_; }
 
 
   // A direction from v towards light number li (of the scene's light list) and its pdf, with the point
@@ -236,11 +249,17 @@ class LensConnection {
     w = im.w[k];
     pdf = dot(w, v.normal_local) / (im.area * im.total * double(sc_.lights.size()));
     target = lp.pos;
+    if (proposal_) {  // it counts only if its proxy orbit crosses the light first at B
+      const LightCrossing x = first_light_crossing(proposal_mass_, v.pos, v.radial_local, v.to_local, w, sc_, p, orders_);
+      if (!x.ok || length(x.pos - lp.pos) > 1e-6 * (1.0 + length(lp.pos))) return false;
+    }
     return pdf > 0.0 && std::isfinite(pdf);
   }
 
-  // Whether a light sample aimed at `target` on light prim p first hit that point.
-  static bool light_sample_hits(const SegmentEnd& le, int p, V3 target) {
+  // Whether a light sample aimed at `target` on light prim p counts: its geodesic first hit that point (as a
+  // proposal: that light, anywhere).
+  bool light_sample_hits(const SegmentEnd& le, int p, V3 target) const {
+    if (proposal_) return le.status == kHit && le.prim == p;
     return le.status == kHit && le.prim == p && length(le.pos - target) <= 1e-4 * (1.0 + length(target));
   }
 
@@ -249,6 +268,11 @@ class LensConnection {
   double pdf(const LensVertex& v, V3 w, int p, V3 x) const {
     if (p < 0 || std::find(sc_.lights.begin(), sc_.lights.end(), p) == sc_.lights.end()) return 0.0;
     LightPoint lp;
+    if (proposal_) {  // as a proposal: at the point where w's proxy orbit first crosses the light
+      const LightCrossing c = first_light_crossing(proposal_mass_, v.pos, v.radial_local, v.to_local, w, sc_, p, orders_);
+      if (!c.ok) return 0.0;
+      x = c.pos;
+    }
     if (!light_point_at(sc_, p, v.pos, x, lp)) return 0.0;
     return lens_pdf(lens_, v, w, light(p, lp), orders_, 1.0 / double(sc_.lights.size()));
   }
@@ -267,6 +291,8 @@ class LensConnection {
   const Scene& sc_;
   SphericalLens lens_;
   int orders_;
+  bool proposal_ = false;
+  double proposal_mass_ = 0.0;
 };
 
 }  // namespace wv

@@ -7,7 +7,9 @@
 // sampling): a BSDF-sampled direction, and a direction towards a light. Where the metric is static and
 // spherical the light strategy draws a point on a light and one of its lensed images by the exact lens map
 // (lens_connection.h); a light sample then counts only if its geodesic first hits that point, and a BSDF
-// direction's light pdf is that of the light point its geodesic first hits, settled after its segment.
+// direction's light pdf is that of the light point its geodesic first hits, settled after its segment. In
+// Kerr the Schwarzschild map does the drawing as a proposal (lens_proposal.h): the pdf is that of where a
+// direction's Schwarzschild orbit first crosses the light it hit.
 // Elsewhere the direction comes from a proxy (flat-space, pilot-aimed, or Kerr's image proxies:
 // light_connection.h) that is a density over directions, and both strategies count whatever emission
 // their geodesic reaches first. Either way the weights sum to one for every direction and the estimator
@@ -62,7 +64,7 @@ class PathTracer {
 
   PathTracer(const M& m, const Scene& sc, const RenderOptions& o)
       : sc_(sc), o_(o), camera_(m, sc.camera), filter_(o.filter, o.filter_radius), segments_(m, sc, o), lights_(m, sc, o, segments_.options()),
-        emission_(m, sc), lens_(m, sc, o.lens_images) {}
+        emission_(m, sc), lens_(m, sc, o.lens_images, o.light_connection == kLensConnection) {}
 
   // One light path while it is traced: what it has gathered (L, its throughput beta), the BSDF strategy's
   // pending weight, the lens vertex whose pdf the next segment settles, and the bookkeeping around each
@@ -147,7 +149,7 @@ class PathTracer {
       co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
                                  le);
       ps.close(le, e.sheet, bounce + 1, kLightSegment);
-      if (LensConnection<M>::light_sample_hits(le, sc_.lights[li], target))
+      if (lens_.light_sample_hits(le, sc_.lights[li], target))
         ps.L += ps.beta * f * emission_.emission(le) / (pl + pb);
       co_return;
     }
@@ -236,7 +238,7 @@ class PathTracer {
       const SurfacePoint& sp = e.surface;
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
       const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
-      const bool lens = nee && o_.light_connection == kLensConnection && lens_.applies(e);
+      const bool lens = nee && o_.light_connection != kAimedConnection && lens_.applies(e);
       Aim aimed;
       if (nee) co_await sample_light(e, mat, albedo, n, wo, bounce, lens, rng, ps, aimed, st, frames, sched);
       const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();

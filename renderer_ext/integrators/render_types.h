@@ -13,9 +13,10 @@
 namespace wv {
 
 // How the light strategy finds lights in curved space: flat-space proxies aimed by pilot geodesics
-// (light_connection.h), or, where the metric is static and spherical, its exact lens map
-// (lens_connection.h; elsewhere the aimed proxies).
-enum LightConnectionKind : int { kAimedConnection = 0, kLensConnection = 1 };
+// (light_connection.h); or, where the metric is static and spherical, its exact lens map (lens_connection.h),
+// in Kerr the Schwarzschild map as a proposal (lens_proposal.h), elsewhere the image or aimed proxies; or
+// the same with Kerr's image proxies in place of the proposal (kImageConnection).
+enum LightConnectionKind : int { kAimedConnection = 0, kLensConnection = 1, kImageConnection = 2 };
 
 // Where in its pixel a camera sample goes: uniform jitter from the sample's random numbers, or the
 // pixel's stratified (Owen-scrambled Sobol) sequence (core/sobol.h).

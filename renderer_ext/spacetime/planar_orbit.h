@@ -75,6 +75,10 @@ class PlanarOrbit {
   // Whether the ray reaches a periapsis ahead or moves inward until it falls in (b below critical).
   bool falls_in() const { return !three_ && inward_; }
 
+  // The largest u the orbit reaches ahead of a start at u0, unless it falls in: the periapsis, or the start
+  // itself for a ray below the critical impact parameter moving outward.
+  double u_peak(double u0) const { return three_ ? u2_ : u0; }
+
   // A bound on the curvature of the orbit drawn in the plane (kappa = 3M u^5 / (1/b^2 + 2M u^3)^(3/2),
   // which grows with u) where u <= u_max, or anywhere up to the periapsis (through_periapsis).
   double curvature_bound(double u_max, bool through_periapsis) const {

@@ -136,13 +136,18 @@ def render(
         Integrator for curved rays.
     tol : float, optional, keyword-only
         Integration tolerance.
-    light_connection : {"lens", "aimed"}, optional, keyword-only
+    light_connection : {"lens", "images", "aimed"}, optional, keyword-only
         How the light strategy finds the lights in curved space. ``"lens"`` (default): where the metric
         is static and spherically symmetric (Schwarzschild, Reissner-Nordstrom, Ellis), a point is drawn
         on a light by area and one of its lensed images is chosen by its exact lens map, with the exact
-        pdf; elsewhere (Kerr) and at points within 5 % of the photon sphere or throat, the aimed proxies.
-        ``"aimed"``: the flat-space proxies aimed by pilot geodesics everywhere. Flat space is the same
-        either way; every choice is unbiased.
+        pdf; in Kerr, where every light is a quad or a disk, the Schwarzschild lens connection of the same
+        mass as a proposal (exact at a = 0), its pdf evaluated where each direction's Schwarzschild orbit
+        first crosses the light; elsewhere (lights of other shapes, points within 5 % of the photon sphere
+        or throat, within 1.3 Schwarzschild photon-sphere radii in Kerr) Kerr's image proxies or the aimed
+        proxies. ``"images"``: in Kerr, the image proxies (the Schwarzschild images of each light's centre
+        refined by a pilot geodesic, the light around each mapped by the proxy map's Jacobian) everywhere
+        they apply; otherwise as ``"lens"``. ``"aimed"``: the flat-space proxies aimed by pilot geodesics
+        everywhere. Flat space is the same either way; every choice is unbiased.
     lens_images : int, optional, keyword-only
         Image orders the lens connection samples, 1-4 (default 2: the direct image and the one round the
         far side of the hole; each further order is ~e^(-2 pi) dimmer). Higher orders are found by BSDF

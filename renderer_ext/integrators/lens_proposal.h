@@ -1,0 +1,242 @@
+// The exact lens connection of Schwarzschild as a proposal in a spacetime that has no exact lens map (Kerr,
+// whose metric declares the Schwarzschild map of the same mass as its lens proxy). The light strategy draws a
+// point B on a light by area and one of B's images in the proxy map, with the probabilities of
+// lens_connection.h; the geodesic along that direction then follows the true metric and lands where it
+// lands. Multiple importance sampling stays unbiased when both strategies evaluate the light strategy's
+// density as a function of the direction alone. Here that function is
+//
+//   p(w) = P(light) cos(theta_w) / (area W(B_S(w))),
+//
+// where B_S(w) is the point at which the proxy orbit leaving the vertex along w first crosses the light
+// (swept azimuth below orders * pi, the orders sampled), and W is the proxy map's weight sum of B_S's
+// images, with p = 0 where the orbit crosses no light point first from its lit side. A light sample counts
+// only if its own B is B_S of the direction it drew, so p is exactly the density of the samples that count.
+// A BSDF ray that reaches the light in the true metric gets p of its direction whatever point it hit.
+//
+// B_S(w): the orbit lies in the plane of the centre, the vertex and w (planar_orbit.h gives u = 1/R as an
+// elliptic function of the swept azimuth phi). That plane meets the light's plane in a line, clipped to the
+// light: a segment that subtends an interval of polar angles, once per turn. Along it the orbit meets the
+// line where g(phi) = alpha cos phi + beta sin phi - delta u(phi) vanishes (alpha, beta: the light normal's
+// components along the vertex's radial direction and the orbit's tangent; delta: the plane's offset), and
+// the first root is found with a bound G on |g''| (from u'' = 3 M u^2 - u): a piece is empty when its end
+// values share a sign and exceed G h^2 / 8, holds one root when its secant slope exceeds G h, and is
+// halved otherwise.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/vec3.h"
+#include "scene/light.h"
+#include "scene/scene.h"
+#include "spacetime/planar_orbit.h"
+
+namespace wv {
+
+namespace detail {
+
+// The user-frame tangent t (perpendicular to the vertex's radial direction xa) that lens_image_rays maps to
+// the local tangent t_local: the inverse of t -> normalize(to_local(t) projected off radial_local).
+inline bool user_tangent(const LinearMap& to_local, V3 radial_local, V3 xa, V3 t_local, V3& t_user) {
+  V3 p1, p2;
+  basis_around(xa, p1, p2);
+  auto off_radial = [&](V3 q) { return q - radial_local * dot(q, radial_local); };
+  const V3 q1 = off_radial(to_local(p1)), q2 = off_radial(to_local(p2));
+  const double g11 = dot(q1, q1), g12 = dot(q1, q2), g22 = dot(q2, q2);
+  const double det = g11 * g22 - g12 * g12;
+  if (!(det > 1e-24 * g11 * g22)) return false;
+  const double r1 = dot(q1, t_local), r2 = dot(q2, t_local);
+  t_user = normalize(p1 * ((g22 * r1 - g12 * r2) / det) + p2 * ((g11 * r2 - g12 * r1) / det));
+  return finite(t_user);
+}
+
+// The interval [lo, hi] of the parameter s of the line x0 + s d that lies inside light prim p (a disk
+// with a hole: up to two); returns how many.
+inline int clip_line_to_light(const Scene& sc, int p, V3 x0, V3 d, double lo[2], double hi[2]) {
+  const Prim& pr = sc.prims[p];
+  if (pr.kind == PrimKind::kQuad) {
+    const Quad& q = sc.quads[pr.index];
+    double a = -INFINITY, b = INFINITY;
+    for (const V3& dual : {q.du, q.dv}) {  // 0 <= (x - corner) . dual <= 1
+      const double c0 = dot(x0 - q.corner, dual), c1 = dot(d, dual);
+      if (std::fabs(c1) < 1e-300) {
+        if (!(c0 >= 0.0 && c0 <= 1.0)) return 0;
+        continue;
+      }
+      const double s0 = -c0 / c1, s1 = (1.0 - c0) / c1;
+      a = std::max(a, std::min(s0, s1));
+      b = std::min(b, std::max(s0, s1));
+    }
+    if (!(a <= b)) return 0;
+    lo[0] = a;
+    hi[0] = b;
+    return 1;
+  }
+  if (pr.kind == PrimKind::kDisk) {
+    // |x0 + s d - c|^2 = r^2 with |d| = 1: s = -e +- sqrt(e^2 - f + r^2).
+    const Disk& k = sc.disks[pr.index];
+    const V3 o = x0 - k.center;
+    const double e = dot(o, d), f = dot(o, o);
+    const double disc_out = e * e - f + k.r_out * k.r_out;
+    if (!(disc_out > 0.0)) return 0;
+    const double w_out = std::sqrt(disc_out);
+    const double disc_in = e * e - f + k.r_in * k.r_in;
+    if (!(k.r_in > 0.0 && disc_in > 0.0)) {
+      lo[0] = -e - w_out;
+      hi[0] = -e + w_out;
+      return 1;
+    }
+    const double w_in = std::sqrt(disc_in);
+    lo[0] = -e - w_out;
+    hi[0] = -e - w_in;
+    lo[1] = -e + w_in;
+    hi[1] = -e + w_out;
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace detail
+
+// Where the proxy orbit from vertex v along local direction w first crosses light prim p.
+struct LightCrossing {
+  bool ok = false;
+  V3 pos;             // user frame
+  double sweep = 0.0;  // azimuth swept from the vertex (order = floor(sweep / pi))
+};
+
+// Whether light prim p's shape is one the proposal finds crossings with (quads and disks: planar).
+inline bool proposal_light(const Scene& sc, int p) {
+  const PrimKind k = sc.prims[p].kind;
+  return k == PrimKind::kQuad || k == PrimKind::kDisk;
+}
+
+// The first crossing, within swept azimuth orders * pi, of the Schwarzschild orbit of mass M that leaves
+// the vertex at user-frame pos (its local frame: to_local, radial_local the outward radial direction)
+// along local direction w with planar light prim p.
+inline LightCrossing first_light_crossing(double M, V3 pos, V3 radial_local, const LinearMap& to_local, V3 w,
+                                          const Scene& sc, int p, int orders) {
+  LightCrossing none;
+  const double RA = length(pos);
+  if (!(RA > 0.0) || !proposal_light(sc, p)) return none;
+  const V3 xa = pos / RA;
+  const double uA = 1.0 / RA, lapse2 = 1.0 - 2.0 * M * uA;
+  if (!(lapse2 > 0.0)) return none;
+  const double cpsi = dot(w, radial_local);
+  const V3 tang = w - radial_local * cpsi;
+  const double spsi = length(tang);
+  if (!(spsi > 1e-9)) return none;
+  V3 t;
+  if (!detail::user_tangent(to_local, radial_local, xa, tang / spsi, t)) return none;
+  t = normalize(t - xa * dot(t, xa));
+  const PlanarOrbit orbit(M, spsi / (uA * std::sqrt(lapse2)), uA, cpsi < 0.0);
+  if (!orbit.valid()) return none;
+  // Where the orbit ends (escapes or reaches the horizon) and the largest u it reaches before.
+  const double end = orbit.falls_in() ? orbit.phi_of(0.5 / M, false) : orbit.phi_of(0.0, true);
+  const double phi_max = std::min(double(orders) * M_PI, std::isfinite(end) ? end : 0.0);
+  if (!(phi_max > 0.0)) return none;
+  const double u_top = orbit.falls_in() ? 0.5 / M : orbit.u_peak(uA);
+
+  // The light's plane within the orbit's plane (spanned by xa and t): the line alpha X + beta Y = delta.
+  V3 c, nl;
+  const Prim& pr = sc.prims[p];
+  if (pr.kind == PrimKind::kQuad) {
+    c = sc.quads[pr.index].corner;
+    nl = sc.quads[pr.index].normal;
+  } else {
+    c = sc.disks[pr.index].center;
+    nl = sc.disks[pr.index].normal;
+  }
+  const double alpha = dot(xa, nl), beta = dot(t, nl), delta = dot(c, nl);
+  const double ab = std::hypot(alpha, beta);
+  if (!(ab > 1e-12)) return none;  // the planes are parallel
+  const V3 x0 = (xa * alpha + t * beta) * (delta / (ab * ab)), d = (t * alpha - xa * beta) / ab;
+  double slo[2], shi[2];
+  const int nseg = detail::clip_line_to_light(sc, p, x0, d, slo, shi);
+  const double G = ab + std::fabs(delta) * u_top * (1.0 + 3.0 * M * u_top);
+  auto g = [&](double phi, double* dg) {
+    double du;
+    const double u = orbit.u(phi, dg ? &du : nullptr);
+    const double cp = std::cos(phi), sp = std::sin(phi);
+    if (dg) *dg = -alpha * sp + beta * cp - delta * du;
+    return alpha * cp + beta * sp - delta * u;
+  };
+  // The first root of g in [lo, hi] (g values glo, ghi), or NaN.
+  auto first_root = [&](auto&& self, double lo, double hi, double glo, double ghi, int depth) -> double {
+    if (glo == 0.0) return lo;
+    const double h = hi - lo;
+    const bool change = (glo < 0.0) != (ghi < 0.0) || ghi == 0.0;
+    if (std::fabs(ghi - glo) > G * h * h) {  // g' keeps its sign: at most one root
+      if (!change) return NAN;
+      double a = lo, b = hi, ga = glo, x = lo - glo * h / (ghi - glo);
+      for (int it = 0; it < 60; ++it) {
+        double dgx;
+        const double gx = g(x, &dgx);
+        if (gx == 0.0) return x;
+        if ((gx < 0.0) == (ga < 0.0)) {
+          a = x;
+          ga = gx;
+        } else {
+          b = x;
+        }
+        double next = x - gx / dgx;
+        if (!(next > a && next < b)) next = 0.5 * (a + b);
+        if (std::fabs(next - x) <= 1e-14 * (1.0 + std::fabs(x)) || b - a <= 1e-14 * (1.0 + std::fabs(x)))
+          return next;
+        x = next;
+      }
+      return x;
+    }
+    if (!change && std::min(std::fabs(glo), std::fabs(ghi)) > 0.125 * G * h * h) return NAN;
+    if (depth >= 48) return change ? 0.5 * (lo + hi) : NAN;  // a graze, to rounding
+    const double mid = 0.5 * (lo + hi), gm = g(mid, nullptr);
+    const double left = self(self, lo, mid, glo, gm, depth + 1);
+    return std::isnan(left) ? self(self, mid, hi, gm, ghi, depth + 1) : left;
+  };
+
+  double best = INFINITY;
+  const bool through_centre = std::fabs(delta) <= 1e-12 * (1.0 + length(c));
+  for (int k = 0; k < nseg; ++k) {
+    if (through_centre) {
+      // The line passes through the centre: the orbit meets it where its polar angle points along it.
+      for (double side : {1.0, -1.0}) {
+        const double phi0 = std::atan2(side * dot(d, t), side * dot(d, xa));
+        for (int turn = 0; turn < 3; ++turn) {
+          const double phi = (phi0 < 0.0 ? phi0 + kTwoPi : phi0) + kTwoPi * turn;
+          if (!(phi > 0.0 && phi < phi_max && phi < best)) continue;
+          const double u = orbit.u(phi);
+          if (!(u > 0.0)) continue;
+          const double s = side / u;
+          if (s >= slo[k] && s <= shi[k]) best = phi;
+        }
+      }
+      continue;
+    }
+    // The segment's polar angles: an arc shorter than pi (the line misses the centre).
+    const V3 pa = x0 + d * slo[k], pb = x0 + d * shi[k];
+    double a0 = std::atan2(dot(pa, t), dot(pa, xa));
+    double span = std::atan2(dot(pb, t), dot(pb, xa)) - a0;
+    span = std::remainder(span, kTwoPi);
+    if (span < 0.0) {
+      a0 += span;
+      span = -span;
+    }
+    if (a0 < 0.0) a0 += kTwoPi;
+    for (int turn = -1; turn < 3; ++turn) {
+      const double lo = std::max(1e-12, a0 + kTwoPi * turn), hi = std::min(phi_max, a0 + span + kTwoPi * turn);
+      if (!(lo < hi) || !(lo < best)) continue;
+      const double r = first_root(first_root, lo, hi, g(lo, nullptr), g(hi, nullptr), 0);
+      if (r < best) best = r;
+    }
+  }
+  if (!std::isfinite(best)) return none;
+  const double u = orbit.u(best);
+  if (!(u > 0.0)) return none;
+  LightCrossing out;
+  out.ok = true;
+  out.sweep = best;
+  out.pos = (xa * std::cos(best) + t * std::sin(best)) / u;
+  return out;
+}
+
+}  // namespace wv
