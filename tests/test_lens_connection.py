@@ -215,6 +215,20 @@ def test_kerr_lens_proposal_and_image_proxies_keep_the_mean_and_lower_the_noise(
     assert frames("images").var(axis=0).mean() < 0.5 * aimed
 
 
+def test_kerr_lens_proposal_keeps_the_mean_with_a_ring_lamp_and_a_lamp_in_a_plane_through_the_hole():
+    """The proposal's other shapes and cases: a ring (a disk with a hole) in the ceiling, and a second lamp
+    whose plane contains the centre (where the orbit meets the plane's line at a fixed polar angle)."""
+    sc = room(metric("kerr", 1.0, 0.9), size=(12, 9), light=3.0, spheres=False)
+    sc["shapes"][6] = {"type": "disk", "center": [0.0, 2.0, 11.99], "normal": [0.0, 0.0, -1.0], "inner_radius": 1.5,
+                       "outer_radius": 3.5, "material": 3}
+    sc["shapes"].append({"type": "quad", "corner": [0.0, 6.0, -3.0], "edge_u": [0.0, 0.0, 6.0],
+                         "edge_v": [0.0, 3.0, 0.0], "material": 3})  # in the plane x = 0, facing -x
+    lens = _image_means(sc, range(12), spp=8, max_depth=3)
+    brute = _image_means(sc, range(12, 36), spp=8, max_depth=3, light_sampling=False)
+    assert lens.mean() > 0
+    assert_same_mean(lens, brute, slack=2e-3 * brute.mean())
+
+
 def test_kerr_lens_proposal_at_zero_spin_is_the_exact_connection():
     """At a = 0 Kerr is Schwarzschild and the proposal's samples all reach the light: the same noise as the
     exact lens connection in the same room, and the same mean."""

@@ -309,10 +309,11 @@ void bind_testing(nb::module_& m) {
         wv::Scene sc;
         sc.quads.push_back(wv::make_quad({c[0], c[1], c[2]}, {eu[0], eu[1], eu[2]}, {ev[0], ev[1], ev[2]}));
         sc.prims.push_back(wv::Prim{wv::PrimKind::kQuad, 0, 0, 0, 1});
+        const wv::PlanarLight light = wv::planar_light(sc, 0);
         const wv::V3 pos{a[0], a[1], a[2]};
         const wv::LinearMap identity;  // the local frame aligned with the user axes, as in lens_images
         const wv::LightCrossing x = wv::first_light_crossing(mass, pos, wv::normalize(pos), identity,
-                                                             wv::normalize(wv::V3{w[0], w[1], w[2]}), sc, 0, orders);
+                                                             wv::normalize(wv::V3{w[0], w[1], w[2]}), light, orders);
         if (!x.ok) return nb::none();
         return nb::make_tuple(to_numpy(std::vector<double>{x.pos.x, x.pos.y, x.pos.z}, {3}), x.sweep);
       },

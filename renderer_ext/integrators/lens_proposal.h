@@ -33,6 +33,96 @@
 
 namespace wv {
 
+// A planar light (quad or disk) as the proposal sees it: its shape, its points by area and the segment a line
+// in its plane keeps inside it.
+struct PlanarLight {
+  bool disk = false;
+  V3 corner, eu, ev, du, dv;             // quad: corner + s eu + r ev, (s, r) in [0, 1]^2; du, dv dual
+  V3 center, axis_u, axis_v;             // disk
+  double r_in = 0.0, r_out = 0.0;
+  V3 normal;
+  double area = 0.0;
+
+  // The point at (u1, u2) by area (as scene/light.h's sample_light_point draws it).
+  V3 point(double u1, double u2) const {
+    if (!disk) return corner + eu * u1 + ev * u2;
+    const double rho = std::sqrt(r_in * r_in + u1 * (r_out * r_out - r_in * r_in)), phi = kTwoPi * u2;
+    return center + axis_u * (rho * std::cos(phi)) + axis_v * (rho * std::sin(phi));
+  }
+
+  // The intervals [lo, hi] of the parameter s of the line x0 + s d (|d| = 1, in the light's plane) that lie
+  // inside the light (a disk with a hole: up to two); returns how many.
+  int clip(V3 x0, V3 d, double lo[2], double hi[2]) const {
+    if (!disk) {
+      double a = -INFINITY, b = INFINITY;
+      for (const V3& dual : {du, dv}) {  // 0 <= (x - corner) . dual <= 1
+        const double c0 = dot(x0 - corner, dual), c1 = dot(d, dual);
+        if (std::fabs(c1) < 1e-300) {
+          if (!(c0 >= 0.0 && c0 <= 1.0)) return 0;
+          continue;
+        }
+        const double s0 = -c0 / c1, s1 = (1.0 - c0) / c1;
+        a = std::max(a, std::min(s0, s1));
+        b = std::min(b, std::max(s0, s1));
+      }
+      if (!(a <= b)) return 0;
+      lo[0] = a;
+      hi[0] = b;
+      return 1;
+    }
+    // |x0 + s d - c|^2 = r^2: s = -e +- sqrt(e^2 - f + r^2).
+    const V3 o = x0 - center;
+    const double e = dot(o, d), f = dot(o, o);
+    const double disc_out = e * e - f + r_out * r_out;
+    if (!(disc_out > 0.0)) return 0;
+    const double w_out = std::sqrt(disc_out), disc_in = e * e - f + r_in * r_in;
+    if (!(r_in > 0.0 && disc_in > 0.0)) {
+      lo[0] = -e - w_out;
+      hi[0] = -e + w_out;
+      return 1;
+    }
+    const double w_in = std::sqrt(disc_in);
+    lo[0] = -e - w_out;
+    hi[0] = -e - w_in;
+    lo[1] = -e + w_in;
+    hi[1] = -e + w_out;
+    return 2;
+  }
+};
+
+// Whether light prim p's shape is one the proposal finds crossings with (quads and disks: planar).
+inline bool proposal_light(const Scene& sc, int p) {
+  const PrimKind k = sc.prims[p].kind;
+  return k == PrimKind::kQuad || k == PrimKind::kDisk;
+}
+
+// Planar light prim p.
+inline PlanarLight planar_light(const Scene& sc, int p) {
+  PlanarLight L;
+  const Prim& pr = sc.prims[p];
+  if (pr.kind == PrimKind::kQuad) {
+    const Quad& q = sc.quads[pr.index];
+    L.corner = q.corner;
+    L.eu = q.eu;
+    L.ev = q.ev;
+    L.du = q.du;
+    L.dv = q.dv;
+    L.normal = q.normal;
+    L.area = length(cross(q.eu, q.ev));
+  } else {
+    const Disk& k = sc.disks[pr.index];
+    L.disk = true;
+    L.center = k.center;
+    L.axis_u = k.axis_u;
+    L.axis_v = k.axis_v;
+    L.r_in = k.r_in;
+    L.r_out = k.r_out;
+    L.normal = k.normal;
+    L.area = M_PI * (L.r_out * L.r_out - L.r_in * L.r_in) * length(cross(k.axis_u, k.axis_v));
+  }
+  return L;
+}
+
 namespace detail {
 
 // The user-frame tangent t (perpendicular to the vertex's radial direction xa) that lens_image_rays maps to
@@ -50,52 +140,6 @@ inline bool user_tangent(const LinearMap& to_local, V3 radial_local, V3 xa, V3 t
   return finite(t_user);
 }
 
-// The interval [lo, hi] of the parameter s of the line x0 + s d that lies inside light prim p (a disk
-// with a hole: up to two); returns how many.
-inline int clip_line_to_light(const Scene& sc, int p, V3 x0, V3 d, double lo[2], double hi[2]) {
-  const Prim& pr = sc.prims[p];
-  if (pr.kind == PrimKind::kQuad) {
-    const Quad& q = sc.quads[pr.index];
-    double a = -INFINITY, b = INFINITY;
-    for (const V3& dual : {q.du, q.dv}) {  // 0 <= (x - corner) . dual <= 1
-      const double c0 = dot(x0 - q.corner, dual), c1 = dot(d, dual);
-      if (std::fabs(c1) < 1e-300) {
-        if (!(c0 >= 0.0 && c0 <= 1.0)) return 0;
-        continue;
-      }
-      const double s0 = -c0 / c1, s1 = (1.0 - c0) / c1;
-      a = std::max(a, std::min(s0, s1));
-      b = std::min(b, std::max(s0, s1));
-    }
-    if (!(a <= b)) return 0;
-    lo[0] = a;
-    hi[0] = b;
-    return 1;
-  }
-  if (pr.kind == PrimKind::kDisk) {
-    // |x0 + s d - c|^2 = r^2 with |d| = 1: s = -e +- sqrt(e^2 - f + r^2).
-    const Disk& k = sc.disks[pr.index];
-    const V3 o = x0 - k.center;
-    const double e = dot(o, d), f = dot(o, o);
-    const double disc_out = e * e - f + k.r_out * k.r_out;
-    if (!(disc_out > 0.0)) return 0;
-    const double w_out = std::sqrt(disc_out);
-    const double disc_in = e * e - f + k.r_in * k.r_in;
-    if (!(k.r_in > 0.0 && disc_in > 0.0)) {
-      lo[0] = -e - w_out;
-      hi[0] = -e + w_out;
-      return 1;
-    }
-    const double w_in = std::sqrt(disc_in);
-    lo[0] = -e - w_out;
-    hi[0] = -e - w_in;
-    lo[1] = -e + w_in;
-    hi[1] = -e + w_out;
-    return 2;
-  }
-  return 0;
-}
-
 }  // namespace detail
 
 // Where the proxy orbit from vertex v along local direction w first crosses light prim p.
@@ -105,20 +149,14 @@ struct LightCrossing {
   double sweep = 0.0;  // azimuth swept from the vertex (order = floor(sweep / pi))
 };
 
-// Whether light prim p's shape is one the proposal finds crossings with (quads and disks: planar).
-inline bool proposal_light(const Scene& sc, int p) {
-  const PrimKind k = sc.prims[p].kind;
-  return k == PrimKind::kQuad || k == PrimKind::kDisk;
-}
-
 // The first crossing, within swept azimuth orders * pi, of the Schwarzschild orbit of mass M that leaves
 // the vertex at user-frame pos (its local frame: to_local, radial_local the outward radial direction)
-// along local direction w with planar light prim p.
+// along local direction w with planar light L.
 inline LightCrossing first_light_crossing(double M, V3 pos, V3 radial_local, const LinearMap& to_local, V3 w,
-                                          const Scene& sc, int p, int orders) {
+                                          const PlanarLight& L, int orders) {
   LightCrossing none;
   const double RA = length(pos);
-  if (!(RA > 0.0) || !proposal_light(sc, p)) return none;
+  if (!(RA > 0.0)) return none;
   const V3 xa = pos / RA;
   const double uA = 1.0 / RA, lapse2 = 1.0 - 2.0 * M * uA;
   if (!(lapse2 > 0.0)) return none;
@@ -138,21 +176,13 @@ inline LightCrossing first_light_crossing(double M, V3 pos, V3 radial_local, con
   const double u_top = orbit.falls_in() ? 0.5 / M : orbit.u_peak(uA);
 
   // The light's plane within the orbit's plane (spanned by xa and t): the line alpha X + beta Y = delta.
-  V3 c, nl;
-  const Prim& pr = sc.prims[p];
-  if (pr.kind == PrimKind::kQuad) {
-    c = sc.quads[pr.index].corner;
-    nl = sc.quads[pr.index].normal;
-  } else {
-    c = sc.disks[pr.index].center;
-    nl = sc.disks[pr.index].normal;
-  }
+  const V3 c = L.disk ? L.center : L.corner, nl = L.normal;
   const double alpha = dot(xa, nl), beta = dot(t, nl), delta = dot(c, nl);
   const double ab = std::hypot(alpha, beta);
   if (!(ab > 1e-12)) return none;  // the planes are parallel
   const V3 x0 = (xa * alpha + t * beta) * (delta / (ab * ab)), d = (t * alpha - xa * beta) / ab;
   double slo[2], shi[2];
-  const int nseg = detail::clip_line_to_light(sc, p, x0, d, slo, shi);
+  const int nseg = L.clip(x0, d, slo, shi);
   const double G = ab + std::fabs(delta) * u_top * (1.0 + 3.0 * M * u_top);
   auto g = [&](double phi, double* dg) {
     double du;
