@@ -125,6 +125,7 @@ class Image:
         the lights a camera sees directly (and the stars) stay as sharp as rendered, and their radiance,
         10-100x the room's, no longer bleeds into the room (in fig07 at 640 x 480 the denoised frame's
         relative MSE falls 3.7x at 8 spp and 7x at 32: benchmarks/README.md, "Time to a clean picture").
+        The features are denoised on their own first (:func:`warpviz.render.denoise.denoise_radiance`).
 
         Returns
         -------
@@ -149,6 +150,7 @@ class Image:
         if sharp is not None:
             out = out + np.maximum(np.asarray(sharp, np.float32), 0.0)
         meta = {**self.metadata, "denoised": {"denoiser": denoiser_version(), "features": features,
+                                              "features_prefiltered": bool(features),
                                               "kept_sharp": "emission" if sharp is not None else None}}  # fmt: skip
         return dataclasses.replace(self, denoised=out, metadata=meta)
 
