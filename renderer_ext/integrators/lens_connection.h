@@ -12,7 +12,9 @@
 // images of order < N, else 0 (the light strategy never draws it). A light sample counts only if its
 // geodesic's first hit is the point it aimed at (light_sample_hits), so both strategies use the pdf of the
 // first light crossing and multiple importance sampling stays unbiased: the lens map only has to be right
-// for efficiency, and it is exact to the integrator's tolerance.
+// for efficiency, and it is exact to the integrator's tolerance. In Kerr the same draw, in the Schwarzschild
+// map of the same mass, is a proposal whose pdf is evaluated where a direction's proxy orbit first crosses
+// the light (lens_proposal.h).
 //
 // The area Jacobian of an image whose ray leaves A at angle psi from the outward radial direction and
 // sweeps Phi to reach B (radius R_B) at arrival direction t (user frame):
@@ -226,9 +228,6 @@ class LensConnection {
       return proposal_ && length(e.pos) * lens_.u_inner > 1.3;
     }
   }
-
-  // Whether the connection is the proxy's as a proposal (the geodesic need not reach the point it aimed at).
-  bool proposal() const { return proposal_; }
 
 
   // A direction from v towards light number li (of the scene's light list) and its pdf, with the point
