@@ -309,7 +309,7 @@ class LensConnection {
   LensLight light(int p, const PlanarLight& L, V3 pos) const {
     LightPoint lp;
     lp.pos = pos;
-    lp.normal = L.normal;
+    lp.normal = L.normal();
     lp.area = L.area;
     return light(p, lp);
   }

@@ -36,27 +36,29 @@ namespace wv {
 // A planar light (quad or disk) as the proposal sees it: its shape, its points by area and the segment a line
 // in its plane keeps inside it.
 struct PlanarLight {
-  bool disk = false;
-  V3 corner, eu, ev, du, dv;             // quad: corner + s eu + r ev, (s, r) in [0, 1]^2; du, dv dual
-  V3 center, axis_u, axis_v;             // disk
-  double r_in = 0.0, r_out = 0.0;
-  V3 normal;
+  bool is_disk = false;
+  Quad quad;  // (a quad light)
+  Disk disk;  // (a disk light)
   double area = 0.0;
+
+  V3 normal() const { return is_disk ? disk.normal : quad.normal; }
+  V3 origin() const { return is_disk ? disk.center : quad.corner; }  // a point of its plane
 
   // The point at (u1, u2) by area (as scene/light.h's sample_light_point draws it).
   V3 point(double u1, double u2) const {
-    if (!disk) return corner + eu * u1 + ev * u2;
-    const double rho = std::sqrt(r_in * r_in + u1 * (r_out * r_out - r_in * r_in)), phi = kTwoPi * u2;
-    return center + axis_u * (rho * std::cos(phi)) + axis_v * (rho * std::sin(phi));
+    if (!is_disk) return quad.corner + quad.eu * u1 + quad.ev * u2;
+    const double r0 = disk.r_in, r1 = disk.r_out;
+    const double rho = std::sqrt(r0 * r0 + u1 * (r1 * r1 - r0 * r0)), phi = kTwoPi * u2;
+    return disk.center + disk.axis_u * (rho * std::cos(phi)) + disk.axis_v * (rho * std::sin(phi));
   }
 
   // The intervals [lo, hi] of the parameter s of the line x0 + s d (|d| = 1, in the light's plane) that lie
   // inside the light (a disk with a hole: up to two); returns how many.
   int clip(V3 x0, V3 d, double lo[2], double hi[2]) const {
-    if (!disk) {
+    if (!is_disk) {
       double a = -INFINITY, b = INFINITY;
-      for (const V3& dual : {du, dv}) {  // 0 <= (x - corner) . dual <= 1
-        const double c0 = dot(x0 - corner, dual), c1 = dot(d, dual);
+      for (const V3& dual : {quad.du, quad.dv}) {  // 0 <= (x - corner) . dual <= 1
+        const double c0 = dot(x0 - quad.corner, dual), c1 = dot(d, dual);
         if (std::fabs(c1) < 1e-300) {
           if (!(c0 >= 0.0 && c0 <= 1.0)) return 0;
           continue;
@@ -71,12 +73,12 @@ struct PlanarLight {
       return 1;
     }
     // |x0 + s d - c|^2 = r^2: s = -e +- sqrt(e^2 - f + r^2).
-    const V3 o = x0 - center;
+    const V3 o = x0 - disk.center;
     const double e = dot(o, d), f = dot(o, o);
-    const double disc_out = e * e - f + r_out * r_out;
+    const double disc_out = e * e - f + disk.r_out * disk.r_out;
     if (!(disc_out > 0.0)) return 0;
-    const double w_out = std::sqrt(disc_out), disc_in = e * e - f + r_in * r_in;
-    if (!(r_in > 0.0 && disc_in > 0.0)) {
+    const double w_out = std::sqrt(disc_out), disc_in = e * e - f + disk.r_in * disk.r_in;
+    if (!(disk.r_in > 0.0 && disc_in > 0.0)) {
       lo[0] = -e - w_out;
       hi[0] = -e + w_out;
       return 1;
@@ -96,30 +98,17 @@ inline bool proposal_light(const Scene& sc, int p) {
   return k == PrimKind::kQuad || k == PrimKind::kDisk;
 }
 
-// Planar light prim p.
+// Planar light prim p, its area as sample_light_point samples it.
 inline PlanarLight planar_light(const Scene& sc, int p) {
   PlanarLight L;
   const Prim& pr = sc.prims[p];
-  if (pr.kind == PrimKind::kQuad) {
-    const Quad& q = sc.quads[pr.index];
-    L.corner = q.corner;
-    L.eu = q.eu;
-    L.ev = q.ev;
-    L.du = q.du;
-    L.dv = q.dv;
-    L.normal = q.normal;
-    L.area = length(cross(q.eu, q.ev));
-  } else {
-    const Disk& k = sc.disks[pr.index];
-    L.disk = true;
-    L.center = k.center;
-    L.axis_u = k.axis_u;
-    L.axis_v = k.axis_v;
-    L.r_in = k.r_in;
-    L.r_out = k.r_out;
-    L.normal = k.normal;
-    L.area = M_PI * (L.r_out * L.r_out - L.r_in * L.r_in) * length(cross(k.axis_u, k.axis_v));
-  }
+  L.is_disk = pr.kind == PrimKind::kDisk;
+  if (L.is_disk)
+    L.disk = sc.disks[pr.index];
+  else
+    L.quad = sc.quads[pr.index];
+  LightPoint lp;
+  L.area = light_point_at(sc, p, L.origin(), L.origin(), lp) ? lp.area : 0.0;
   return L;
 }
 
@@ -176,7 +165,7 @@ inline LightCrossing first_light_crossing(double M, V3 pos, V3 radial_local, con
   const double u_top = orbit.falls_in() ? 0.5 / M : orbit.u_peak(uA);
 
   // The light's plane within the orbit's plane (spanned by xa and t): the line alpha X + beta Y = delta.
-  const V3 c = L.disk ? L.center : L.corner, nl = L.normal;
+  const V3 c = L.origin(), nl = L.normal();
   const double alpha = dot(xa, nl), beta = dot(t, nl), delta = dot(c, nl);
   const double ab = std::hypot(alpha, beta);
   if (!(ab > 1e-12)) return none;  // the planes are parallel
