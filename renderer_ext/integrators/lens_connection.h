@@ -233,16 +233,28 @@ class LensConnection {
   // A direction from v towards light number li (of the scene's light list) and its pdf, with the point
   // aimed at; u1, u2 pick the point, u3 the image.
   bool sample(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf, V3& target) const {
-    if (proposal_) return sample_proposal(v, li, u1, u2, u3, w, pdf, target);
     const int p = sc_.lights[li];
     LightPoint lp;
     if (!sample_light_point(sc_, p, v.pos, u1, u2, lp)) return false;
     const LensImages im = lens_images(lens_, v, light(p, lp), orders_);
-    int k;
-    if (!pick_image(im, u3, k)) return false;
+    if (!(im.total > 0.0)) return false;
+    double acc = 0.0;
+    int k = im.n - 1;
+    for (int i = 0; i < im.n; ++i) {
+      acc += im.weight[i];
+      if (u3 * im.total < acc) {
+        k = i;
+        break;
+      }
+    }
+    if (!(im.weight[k] > 0.0)) return false;
     w = im.w[k];
     pdf = dot(w, v.normal_local) / (im.area * im.total * double(sc_.lights.size()));
     target = lp.pos;
+    if (proposal_) {  // it counts only if its proxy orbit crosses the light first at B
+      const LightCrossing x = crossing(v, w, li);
+      if (!x.ok || length(x.pos - lp.pos) > 1e-6 * (1.0 + length(lp.pos))) return false;
+    }
     return pdf > 0.0 && std::isfinite(pdf);
   }
 
@@ -255,63 +267,24 @@ class LensConnection {
 
   // Solid-angle pdf with which the light strategy at v draws local direction w whose geodesic first hits
   // prim p at user-frame point x (0 if p is not a light or w not one of x's images of order < N; as a
-  // proposal, whatever x).
+  // proposal, whatever x: the pdf is that of the point where w's proxy orbit first crosses the light).
   double pdf(const LensVertex& v, V3 w, int p, V3 x) const {
     const auto it = std::find(sc_.lights.begin(), sc_.lights.end(), p);
     if (p < 0 || it == sc_.lights.end()) return 0.0;
-    if (proposal_) return proposal_pdf(v, w, int(it - sc_.lights.begin()));
+    if (proposal_) {
+      const LightCrossing c = crossing(v, w, int(it - sc_.lights.begin()));
+      if (!c.ok) return 0.0;
+      x = c.pos;
+    }
     LightPoint lp;
     if (!light_point_at(sc_, p, v.pos, x, lp)) return 0.0;
     return lens_pdf(lens_, v, w, light(p, lp), orders_, 1.0 / double(sc_.lights.size()));
   }
 
  private:
-  // Image k of im by u (each with probability weight / total); false where it has no weight.
-  static bool pick_image(const LensImages& im, double u, int& k) {
-    if (!(im.total > 0.0)) return false;
-    double acc = 0.0;
-    k = im.n - 1;
-    for (int i = 0; i < im.n; ++i) {
-      acc += im.weight[i];
-      if (u * im.total < acc) {
-        k = i;
-        break;
-      }
-    }
-    return im.weight[k] > 0.0;
-  }
-
-  // As a proposal: B on the light by area, an image by its weight, and a sample that counts only if its
-  // proxy orbit crosses the light first at B.
-  bool sample_proposal(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf,
-                       V3& target) const {
-    const PlanarLight& L = planar_[size_t(li)];
-    target = L.point(u1, u2);
-    const LensImages im = lens_images(lens_, v, light(sc_.lights[li], L, target), orders_);
-    int k;
-    if (!pick_image(im, u3, k)) return false;
-    w = im.w[k];
-    const LightCrossing x = first_light_crossing(proposal_mass_, v.pos, v.radial_local, v.to_local, w, L, orders_);
-    if (!x.ok || length(x.pos - target) > 1e-6 * (1.0 + length(target))) return false;
-    pdf = dot(w, v.normal_local) / (im.area * im.total * double(sc_.lights.size()));
-    return pdf > 0.0 && std::isfinite(pdf);
-  }
-
-  // As a proposal: the density of w towards light number li, at the point where w's proxy orbit first
-  // crosses it.
-  double proposal_pdf(const LensVertex& v, V3 w, int li) const {
-    const PlanarLight& L = planar_[size_t(li)];
-    const LightCrossing c = first_light_crossing(proposal_mass_, v.pos, v.radial_local, v.to_local, w, L, orders_);
-    if (!c.ok) return 0.0;
-    return lens_pdf(lens_, v, w, light(sc_.lights[li], L, c.pos), orders_, 1.0 / double(sc_.lights.size()));
-  }
-
-  LensLight light(int p, const PlanarLight& L, V3 pos) const {
-    LightPoint lp;
-    lp.pos = pos;
-    lp.normal = L.normal();
-    lp.area = L.area;
-    return light(p, lp);
+  // As a proposal: where the proxy orbit from v along w first crosses light number li.
+  LightCrossing crossing(const LensVertex& v, V3 w, int li) const {
+    return first_light_crossing(proposal_mass_, v.pos, v.radial_local, v.to_local, w, planar_[size_t(li)], orders_);
   }
 
   LensLight light(int p, const LightPoint& lp) const {

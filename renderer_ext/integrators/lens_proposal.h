@@ -33,24 +33,15 @@
 
 namespace wv {
 
-// A planar light (quad or disk) as the proposal sees it: its shape, its points by area and the segment a line
-// in its plane keeps inside it.
+// A planar light (quad or disk) as the proposal sees it: its plane and the segment a line in that plane keeps
+// inside it.
 struct PlanarLight {
   bool is_disk = false;
   Quad quad;  // (a quad light)
   Disk disk;  // (a disk light)
-  double area = 0.0;
 
   V3 normal() const { return is_disk ? disk.normal : quad.normal; }
   V3 origin() const { return is_disk ? disk.center : quad.corner; }  // a point of its plane
-
-  // The point at (u1, u2) by area (as scene/light.h's sample_light_point draws it).
-  V3 point(double u1, double u2) const {
-    if (!is_disk) return quad.corner + quad.eu * u1 + quad.ev * u2;
-    const double r0 = disk.r_in, r1 = disk.r_out;
-    const double rho = std::sqrt(r0 * r0 + u1 * (r1 * r1 - r0 * r0)), phi = kTwoPi * u2;
-    return disk.center + disk.axis_u * (rho * std::cos(phi)) + disk.axis_v * (rho * std::sin(phi));
-  }
 
   // The intervals [lo, hi] of the parameter s of the line x0 + s d (|d| = 1, in the light's plane) that lie
   // inside the light (a disk with a hole: up to two); returns how many.
@@ -98,7 +89,7 @@ inline bool proposal_light(const Scene& sc, int p) {
   return k == PrimKind::kQuad || k == PrimKind::kDisk;
 }
 
-// Planar light prim p, its area as sample_light_point samples it.
+// Planar light prim p.
 inline PlanarLight planar_light(const Scene& sc, int p) {
   PlanarLight L;
   const Prim& pr = sc.prims[p];
@@ -107,8 +98,6 @@ inline PlanarLight planar_light(const Scene& sc, int p) {
     L.disk = sc.disks[pr.index];
   else
     L.quad = sc.quads[pr.index];
-  LightPoint lp;
-  L.area = light_point_at(sc, p, L.origin(), L.origin(), lp) ? lp.area : 0.0;
   return L;
 }
 

@@ -81,8 +81,6 @@ def resume_settings(options: dict, native: dict) -> dict:
     return json.loads(json.dumps(out))
 
 
-
-
 def saved_resume(meta: dict) -> dict:
     """The resume record of an image's ``warpviz`` metadata (``settings``, ``scene_sha256``, ``passes``, ...),
     or {} where the image has none (not written by a resumable render)."""
@@ -118,7 +116,7 @@ def resume_problem(img, *, settings: dict, sha256: str, aovs: list[str] | None, 
     if "resume" not in meta or "variance" not in img.aovs or "samples" not in img.aovs:
         return (f"{name} cannot be resumed: it was written by a warpviz render that does not record its samples' "
                 "variance and settings (render it again)")  # fmt: skip
-    saved = meta["resume"]
+    saved = saved_resume(meta)
     if not saved.get("resumable", False):
         return (f"{name} cannot be resumed: it holds only part of its first pass (the render was stopped before "
                 "any pass finished); render it again")  # fmt: skip
