@@ -262,14 +262,14 @@ def test_a_film_of_another_window_is_refused_by_the_core():
     img = core.render  # the binding checks what it is handed, whatever Python does
     native = wv.scene.load_scene("fig04").native(width=4, height=3)
     from warpviz.render.render import DEFAULT_OPTIONS, FILTER_RADII
-    from warpviz.options import EDGE_SAMPLES
+    from warpviz.options import DETAIL_SAMPLES, EDGE_SAMPLES
     from warpviz.tracing import default_max_drift
 
     options = dict(DEFAULT_OPTIONS, spp=1, sample_begin=0, threads=1, progress=None, record_pixels=None,
                    crop=[0, 0, 4, 3], aovs=[])  # fmt: skip
     options["max_drift"] = default_max_drift(options["tol"])
     options["filter_radius"] = FILTER_RADII[options["filter"]]
-    options["edge_samples"] = EDGE_SAMPLES
+    options["edge_samples"], options["detail_samples"] = EDGE_SAMPLES, DETAIL_SAMPLES
     film = img(native, options)["film"]
     with pytest.raises(ValueError, match="does not cover this window"):
         img(native, dict(options, crop=[0, 0, 2, 3], film=film, sample_begin=1))

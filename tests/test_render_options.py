@@ -9,7 +9,7 @@ import pytest
 
 import warpviz as wv
 from warpviz._native import core
-from warpviz.options import (DEFAULT_OPTIONS, EDGE_SAMPLES, RENDER_OPTIONS, SCENE_OPTIONS, check_option,
+from warpviz.options import (DEFAULT_OPTIONS, DETAIL_SAMPLES, EDGE_SAMPLES, RENDER_OPTIONS, SCENE_OPTIONS, check_option,
                              options_markdown)
 from warpviz.scene import SceneError, load_scene
 
@@ -94,7 +94,7 @@ def test_a_scene_may_set_the_options_it_could_not_before():
 def test_the_core_reads_every_option_and_names_each_one_missing():
     native = load_scene_text(SCENE).native()
     options = {**DEFAULT_OPTIONS, "filter_radius": 0.5, "max_drift": 1e-4, "edge_samples": EDGE_SAMPLES,
-               "sample_begin": 0, "threads": 1, "aovs": [], "crop": None}  # fmt: skip
+               "detail_samples": DETAIL_SAMPLES, "sample_begin": 0, "threads": 1, "aovs": [], "crop": None}  # fmt: skip
     core.render(native, options)  # complete: renders
     for name in DEFAULT_OPTIONS:
         partial = {k: v for k, v in options.items() if k != name}

@@ -11,7 +11,7 @@ import pytest
 
 import warpviz as wv
 from warpviz._native import core
-from warpviz.options import EDGE_SAMPLES
+from warpviz.options import DETAIL_SAMPLES, EDGE_SAMPLES
 from warpviz.render.render import DEFAULT_OPTIONS, FILTER_RADII
 from warpviz.scene.camera import camera_basis, pinhole_directions
 from warpviz.scene.native import native_camera, native_scene, schema_keys
@@ -106,7 +106,7 @@ def _render_options() -> dict:
     options = dict(DEFAULT_OPTIONS, spp=1, sample_begin=0, threads=1, progress=None, record_pixels=None)
     options["max_drift"] = default_max_drift(options["tol"])
     options["filter_radius"] = FILTER_RADII[options["filter"]]
-    options["edge_samples"] = EDGE_SAMPLES
+    options["edge_samples"], options["detail_samples"] = EDGE_SAMPLES, DETAIL_SAMPLES
     return options
 
 

@@ -31,7 +31,8 @@ MAX_IMAGE_SIDE = 65536
 #: Largest number of samples per pixel (the film counts a pixel's samples in 32 bits).
 MAX_SPP = 2**31 - 1
 
-#: Largest multiple of spp that the pixels on a light's edge get (``render(edge_samples=)``).
+#: Largest multiple of spp that the pixels on a light's edge or holding detail get (``render(edge_samples=)``,
+#: ``render(detail_samples=)``).
 MAX_EDGE_SAMPLES = 64
 
 #: Largest strength of an emitter (the factor on its colour): a sun seen from a lamp-lit room is about 1e5

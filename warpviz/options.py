@@ -37,8 +37,9 @@ from typing import Any
 
 from warpviz.limits import MAX_EDGE_SAMPLES, MAX_SEED, MAX_SPP
 
-__all__ = ["DEFAULT_OPTIONS", "EDGE_SAMPLES", "EDGE_SAMPLES_DENOISED", "FILTER_RADII", "RENDER_OPTIONS", "SCENE_OPTIONS",
-           "RenderOption", "check_option", "default_edge_samples", "option_help", "options_markdown"]  # fmt: skip
+__all__ = ["DEFAULT_OPTIONS", "DETAIL_SAMPLES", "DETAIL_SAMPLES_DENOISED", "EDGE_SAMPLES", "EDGE_SAMPLES_DENOISED",
+           "FILTER_RADII", "RENDER_OPTIONS", "SCENE_OPTIONS", "RenderOption", "check_option", "default_detail_samples",
+           "default_edge_samples", "option_help", "options_markdown"]  # fmt: skip
 
 #: The steppers (integrators/stepper.h); warpviz.tracing.STEPPERS is this tuple.
 STEPPER_NAMES = ("rk4", "dopri5", "dop853")
@@ -140,6 +141,12 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  "some samples' Fresnel choice only (found by probe rays before rendering, so the image stays "
                  "unbiased); 1 turns it off.", lo=1, hi=MAX_EDGE_SAMPLES, flag="--edge-samples",
                  derived="8, or 32 in a denoised render (a resumed render: its image's)"),  # fmt: skip
+    RenderOption("detail_samples", "int", None, "Samples per pixel, as a multiple of spp, in the pixels that "
+                 "hold more than one surface, seen directly or in mirrors and glass (an outline, the squeezed "
+                 "images round a hole's shadow, the room in a glass ball: detail the denoiser cannot rebuild "
+                 "from its features; found by the same probe rays as the edges, so the image stays unbiased); "
+                 "1 turns it off.", lo=1, hi=MAX_EDGE_SAMPLES, flag="--detail-samples",
+                 derived="1, or 8 in a denoised render (a resumed render: its image's)"),  # fmt: skip
     RenderOption("filter", "choice", "box", "Pixel reconstruction filter, by importance sampling of each "
                  "camera sample's offset.", choices=tuple(FILTER_RADII)),  # fmt: skip
     RenderOption("filter_radius", "real", None, "Half-width of the filter's support in pixels.", lo=0.0,
@@ -169,6 +176,20 @@ def default_edge_samples(denoise: bool) -> int:
     """``edge_samples`` where neither the call nor the scene sets it: :data:`EDGE_SAMPLES_DENOISED` for a
     render that will be denoised, else :data:`EDGE_SAMPLES`."""
     return EDGE_SAMPLES_DENOISED if denoise else EDGE_SAMPLES
+
+
+#: ``detail_samples`` of a render that is not denoised, and of one that is. A denoiser rebuilds a surface
+#: from its features where the pixel holds one; where it holds several (the room squeezed into the rings
+#: round fig10d's shadow, the room seen in a glass ball) it can only blur what the samples found, so those
+#: pixels carry most of a denoised image's error: benchmarks/README.md, "Detail samples".
+DETAIL_SAMPLES = 1
+DETAIL_SAMPLES_DENOISED = 8
+
+
+def default_detail_samples(denoise: bool) -> int:
+    """``detail_samples`` where neither the call nor the scene sets it: :data:`DETAIL_SAMPLES_DENOISED` for a
+    render that will be denoised, else :data:`DETAIL_SAMPLES`."""
+    return DETAIL_SAMPLES_DENOISED if denoise else DETAIL_SAMPLES
 
 
 #: Every option's default (None: derived from others, see :attr:`RenderOption.derived`).

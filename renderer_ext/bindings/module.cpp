@@ -300,12 +300,13 @@ nb::dict render(nb::dict scene, nb::dict options) {
     o.filter_radius = option<double>(options, "filter_radius");
   }
   o.edge_samples = option<int>(options, "edge_samples");
-  if (options.contains("edge_list") && !options["edge_list"].is_none()) {  // None: probe for them
+  o.detail_samples = option<int>(options, "detail_samples");
+  if (options.contains("pixel_classes") && !options["pixel_classes"].is_none()) {  // None: probe for them
     nb::ndarray<const int64_t, nb::c_contig, nb::device::cpu> el;
-    if (!nb::try_cast(options["edge_list"], el) || el.ndim() != 1)
-      throw std::invalid_argument("render option 'edge_list' must be an int64 array of shape (K,)");
-    o.edges_given = true;
-    o.edges.assign(el.data(), el.data() + el.size());
+    if (!nb::try_cast(options["pixel_classes"], el) || el.ndim() != 1)
+      throw std::invalid_argument("render option 'pixel_classes' must be an int64 array of shape (K,)");
+    o.classes_given = true;
+    o.classes.assign(el.data(), el.data() + el.size());
   }
   o.batch = option<bool>(options, "batch");
   o.threads = option<int>(options, "threads");
@@ -366,13 +367,15 @@ nb::dict render(nb::dict scene, nb::dict options) {
   nb::dict out, stats;
   out["noise"] = wv::noise(wv::sums_of(r.film));
   out["film"] = film_to_dict(std::move(r.film));
-  out["edge_list"] = to_numpy(std::move(r.edge_list), {size_t(r.edge_pixels)});
+  const size_t nclasses = r.pixel_classes.size();
+  out["pixel_classes"] = to_numpy(std::move(r.pixel_classes), {nclasses});
   out["completed"] = r.completed && !interrupted;
   nb::dict counts;
   for (int k = 0; k < wv::kNumStatuses; ++k) counts[wv::kStatusNames[k]] = r.status_counts[k];
   stats["segments_by_status"] = counts;
   stats["segments"] = r.segments;
   stats["edge_pixels"] = r.edge_pixels;
+  stats["detail_pixels"] = r.detail_pixels;
   stats["steps"] = r.total_steps;
   stats["seconds"] = seconds;
   stats["threads"] = wv::resolve_threads(o.threads);

@@ -287,20 +287,21 @@ class PathTracer {
     out.max_drift = ps.max_drift;
   }
 
-  // What the camera ray through image point (x, y) (pixel units, no jitter, no filter) sees of the emitters,
-  // for the render loop's probes for the edges of lights (render_loop.h), without random numbers: the ray
-  // is followed through mirrors and glass, glass splitting it into its reflected and refracted branch, each
-  // with the share of the light its Fresnel factors give it (depth first, reflection first; at most
-  // kProbeSpecular specular vertices along a branch and kProbeLeaves branches; a branch whose share falls
-  // below kProbeShare is not followed and counts as seeing no emitter). `hit`: a signature of the branches
-  // that end on an emitter (0: none; each branch named by its reflect/refract choices), or kProbeMixed where
-  // some branches end on one and others do not, so that a sample sees the light or not by its Fresnel
-  // choices (a lamp reflected in a glass ball, or seen after reflections inside it): such a pixel's emission
-  // is noisy however it is covered, and gets the edge samples as an edge pixel does.
+  // What the camera ray through image point (x, y) (pixel units, no jitter, no filter) sees, for the render
+  // loop's probes for the edges of lights and for detail below a pixel (render_loop.h), without random
+  // numbers: the ray is followed through mirrors and glass, glass splitting it into its reflected and
+  // refracted branch, each with the share of the light its Fresnel factors give it (depth first, reflection
+  // first; at most kProbeSpecular specular vertices along a branch and kProbeLeaves branches; a branch whose
+  // share falls below kProbeShare is not followed and counts as seeing no emitter). `hit.light`: a signature of
+  // the branches that end on an emitter (0: none; each branch named by its reflect/refract choices), or
+  // kProbeMixed where some branches end on one and others do not, so that a sample sees the light or not by its
+  // Fresnel choices (a lamp reflected in a glass ball, or seen after reflections inside it): such a pixel's
+  // emission is noisy however it is covered, and gets the edge samples as an edge pixel does. `hit.shape`: a
+  // signature of where every followed branch ends (the user's shape it hits, or how it leaves: escaped on its
+  // sheet, captured, failed), so neighbouring probes differ where an outline or an image of one lies between.
   static constexpr int kProbeSpecular = 6, kProbeLeaves = 16;
   static constexpr double kProbeShare = 1e-3;
-  static constexpr int32_t kProbeMixed = -1;
-  Task<void> probe(double x, double y, RenderStats& st, Scheduler* sched, int32_t& hit) const {
+  Task<void> probe(double x, double y, RenderStats& st, Scheduler* sched, ProbeHit& hit) const {
     struct Branch {
       V3 x, d;
       int sheet, skip, depth;
@@ -310,15 +311,20 @@ class PathTracer {
     Branch todo[kProbeSpecular + 2];  // depth first: at most one pending sibling per level
     int n_todo = 0, leaves = 0;
     bool any = false, all = true;
-    uint32_t signature = 0;
+    uint32_t signature = 0, shape = 0;
     double energy0;
     todo[n_todo++] = {sc_.camera.position, camera_.start_direction(camera_.direction_at(x, y), energy0),
                       sc_.camera.sheet, -1, 0, 1u, 1.0};
-    auto leaf = [&](bool emits, uint32_t code) {
+    auto leaf = [&](bool emits, uint32_t code, uint32_t end) {
       ++leaves;
       any |= emits;
       all &= emits;
       if (emits) signature ^= (code * 2654435761u) & 0x7fffffffu;  // a branch's name, hashed
+      shape ^= (code * 2654435761u) ^ ((end + 1u) * 0x9e3779b1u);     // ... with where it ends
+    };
+    // Where a branch ends: its shape, or how it left (escaped on either sheet, captured, failed).
+    auto end_of = [&](const SegmentEnd& e) {
+      return e.status == kHit ? 16u + uint32_t(sc_.prims[e.prim].shape) : uint32_t(e.status) * 2u + (e.sheet < 0);
     };
     while (n_todo > 0) {
       const Branch b = todo[--n_todo];
@@ -334,7 +340,7 @@ class PathTracer {
       const Material* mat = e.status == kHit ? &sc_.materials[sc_.prims[e.prim].material] : nullptr;
       if (!(mat && !mat->emits() && mat->is_delta() && b.depth < kProbeSpecular &&
             leaves + n_todo + 2 <= kProbeLeaves)) {  // an emitter, a non-specular surface, the sky, or the end
-        leaf(mat && mat->emits(), b.code);
+        leaf(mat && mat->emits(), b.code, end_of(e));
         continue;
       }
       const V3 n = e.normal_local, wo = -e.dir;
@@ -354,12 +360,13 @@ class PathTracer {
       for (int k = 0; k < 2; ++k) {
         if (!(k == 0 ? refr.valid : refl.valid)) continue;
         if (kids[k].share < kProbeShare)
-          leaf(false, kids[k].code);
+          leaf(false, kids[k].code, 15u);  // (not followed)
         else
           todo[n_todo++] = kids[k];
       }
     }
-    hit = any && !all ? kProbeMixed : int32_t(signature);
+    hit.light = any && !all ? kProbeMixed : int32_t(signature);
+    hit.shape = shape;
   }
 
  private:
@@ -404,10 +411,10 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
                       SampleScheduler<M, S>* sched) {
     return pt.sample_pixel(px, py, s, film, out, recorded, st, sched);
   };
-  auto probe = [&pt](double x, double y, RenderStats& st, SampleScheduler<M, S>* sched, int32_t& hit) {
+  auto probe = [&pt](double x, double y, RenderStats& st, SampleScheduler<M, S>* sched, ProbeHit& hit) {
     return pt.probe(x, y, st, sched, hit);
   };
-  // Probing for the edges of lights is wasted where nothing emits.
+  // Probing for the edges of lights is wasted where nothing emits (render_loop.h probes for detail anyway).
   const bool emitters = std::any_of(sc.prims.begin(), sc.prims.end(),
                                     [&sc](const Prim& p) { return sc.materials[p.material].emits(); });
   return render_passes<M, S>(m, sc.camera, o, sample, probe, emitters);

@@ -1,6 +1,7 @@
 // The render loop: progressive passes (1, 1, 2, 4, ... samples per pixel, so an interrupted render is a
 // whole image) over chunks of pixels in parallel, then further samples in the pixels on the edge of a
-// light seen directly or in mirrors and glass (found first, by probe rays on a fixed lattice), progress
+// light seen directly or in mirrors and glass and in those holding more than one surface (found first, by
+// probe rays on a fixed lattice), progress
 // and cancellation, and the film's accumulation of what the samples add, in (pixel, sample) order
 // whatever order they finished in; the recorded pixels' segments and the segment statistics are collected
 // on the way.
@@ -64,18 +65,20 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
     for (int c = 0; c < 3; ++c) film.emission_sum[3 * pix + c] += so.emission[c];
 }
 
-// The pixels of window (X0, Y0, W, H) whose footprint straddles the edge of a light, seen directly or in
-// mirrors and glass, found without random numbers: probe(x, y, stats, scheduler, hit) gives a signature of
-// the specular branches of the camera ray through image point (x, y) (pixel units) that end on an emitter
-// (0: none), or -1 where some branches do and some do not (path_tracer.h); the probes lie on the lattice of
-// half-pixel spacing (corners, edge midpoints and centres, shared by neighbours), and a pixel whose nine
-// lattice points disagree, or one of which is -1, is an edge pixel. Depends only on the scene and the
-// pixel, so every window agrees on it.
+// The pixels of window (X0, Y0, W, H) that get more samples, found without random numbers (kPixelClasses *
+// index + class, ascending): probe(x, y, stats, scheduler, hit) gives what the camera ray through image point
+// (x, y) (pixel units) sees (ProbeHit: path_tracer.h); the probes lie on the lattice of half-pixel spacing
+// (corners, edge midpoints and centres, shared by neighbours). With `edges`, a pixel whose nine lattice points
+// disagree on the emitters their branches end on, or one of which sees some (kProbeMixed), is an edge pixel
+// (straddling the edge of a light seen directly or in mirrors and glass); with `details`, one of the others
+// whose lattice points disagree on where their branches end (two shapes, a shape and the sky or the hole) is
+// a detail pixel. Depends only on the scene and the pixel, so every window agrees on it.
 template <class M, class S, class Probe>
-std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int Y0, int W, int H, const Probe& probe,
-                                const std::function<bool()>& poll, bool& cancelled, RenderStats& stats) {
+std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, int Y0, int W, int H,
+                                   const Probe& probe, bool edges, bool details, const std::function<bool()>& poll,
+                                   bool& cancelled, RenderStats& stats) {
   const size_t LW = size_t(2 * W + 1), LH = size_t(2 * H + 1), n = LW * LH;
-  std::vector<int32_t> hit(n, 0);
+  std::vector<ProbeHit> hit(n);
   constexpr size_t kChunk = 256;  // lattice points per parallel task
   std::mutex stats_mutex;
   auto body = [&](size_t c) {
@@ -92,33 +95,36 @@ std::vector<size_t> edge_pixels(const M& m, const RenderOptions& o, int X0, int 
     stats.segments += st.segments;
   };
   cancelled = !parallel_for((n + kChunk - 1) / kChunk, o.threads, 1, body, poll);
-  std::vector<size_t> edges;
-  if (cancelled) return edges;
+  std::vector<int64_t> classes;
+  if (cancelled) return classes;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      const int32_t h0 = hit[size_t(2 * y) * LW + size_t(2 * x)];
-      bool edge = h0 < 0;
-      for (int j = 0; j < 3 && !edge; ++j)
+      const ProbeHit& h0 = hit[size_t(2 * y) * LW + size_t(2 * x)];
+      bool edge = edges && h0.light == kProbeMixed, detail = false;
+      for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
-          const int32_t h = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
-          if (h != h0) edge = true;  // (h0 >= 0 here, so a mixed point differs)
+          const ProbeHit& h = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
+          edge = edge || (edges && h.light != h0.light);  // (h0 is not mixed here, so a mixed point differs)
+          detail = detail || (details && h.shape != h0.shape);
         }
-      if (edge) edges.push_back(size_t(y) * W + x);
+      if (edge || detail)
+        classes.push_back(kPixelClasses * (int64_t(y) * W + x) + (edge ? kEdgePixel : kDetailPixel));
     }
-  return edges;
+  return classes;
 }
 
 // Renders camera `cam` (its window o.crop, if set): samples [B, B + o.spp) of every pixel, B = o.sample_begin,
-// and [E B, E (B + o.spp)) of each edge pixel (a light's edge, seen directly or in mirrors and glass),
-// E = o.edge_samples (edge_pixels, probed before any sample where probe_edges, i.e. something emits, unless
-// o.edges_given: the count does not depend on what the samples find, so every pixel's mean stays unbiased).
-// Consecutive ranges therefore hold exactly the samples of one render of their total: a render can stop after
-// any range and resume later. sample(px, py, s, film, out, recorded, stats, scheduler) is sample s of image
-// pixel (px, py) as a Task (PathTracer::sample_pixel), run by run_samples. A pixel's samples do not depend on
-// the window, so windows of an image tile it exactly.
+// and [k B, k (B + o.spp)) of a pixel given k x o.spp (k = o.edge_samples on a light's edge, seen directly or in
+// mirrors and glass, k = o.detail_samples where the pixel holds detail; pixel_classes, probed before any sample
+// unless o.classes_given: which pixels they are does not depend on what the samples find, so every pixel's mean
+// stays unbiased). Consecutive ranges therefore hold exactly the samples of one render of their total: a render
+// can stop after any range and resume later. sample(px, py, s, film, out, recorded, stats, scheduler) is sample
+// s of image pixel (px, py) as a Task (PathTracer::sample_pixel), run by run_samples; probe_lights: something
+// emits, so a light has edges to probe for. A pixel's samples do not depend on the window, so windows of an
+// image tile it exactly.
 template <class M, class S, class Sample, class Probe>
 RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o, const Sample& sample,
-                           const Probe& probe, bool probe_edges) {
+                           const Probe& probe, bool probe_lights) {
   RenderResult out;
   const bool whole = o.crop[2] <= 0 || o.crop[3] <= 0;
   const int X0 = whole ? 0 : o.crop[0], Y0 = whole ? 0 : o.crop[1];
@@ -145,7 +151,8 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
   }
 
   const size_t npix = size_t(W) * H;
-  const int64_t B = o.sample_begin, B1 = B + o.spp, E = o.edge_samples;
+  const int64_t B = o.sample_begin, B1 = B + o.spp;
+  const int64_t D = std::max(1, o.detail_samples), E = std::max<int64_t>(std::max(1, o.edge_samples), D);
   std::atomic<int64_t> done{0};
   int64_t total = int64_t(npix) * o.spp;
   // A stop is for good: poll can be asked for a stop after a pass's last chunk has started, when
@@ -156,69 +163,83 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
     return !stopped;
   })
                                             : std::function<bool()>();
-  std::vector<size_t> edges;
+  std::vector<int64_t> classes;
   RenderStats probes;  // the probe rays' segments, counted with the samples'
-  if (E > 1 && o.edges_given) {
-    edges.reserve(o.edges.size());
-    for (const int64_t p : o.edges) {
-      if (p < 0 || size_t(p) >= npix || (!edges.empty() && size_t(p) <= edges.back()))
-        throw std::invalid_argument("render option 'edge_list' must hold ascending pixel indices of the window");
-      edges.push_back(size_t(p));
+  const bool find_edges = E > 1 && probe_lights, find_details = D > 1;
+  if (o.classes_given && (find_edges || find_details)) {
+    int64_t last = -1;
+    for (const int64_t c : o.classes) {
+      const int64_t p = c / kPixelClasses, k = c % kPixelClasses;
+      if (c < 0 || size_t(p) >= npix || p <= last || (k != kEdgePixel && k != kDetailPixel))
+        throw std::invalid_argument("render option 'pixel_classes' must hold ascending pixels of the window, "
+                                    "4 x index + 1 (detail) or 2 (edge)");
+      last = p;
+      classes.push_back(c);
     }
-  } else if (E > 1 && probe_edges) {
+  } else if (find_edges || find_details) {
     bool cancelled = false;
-    edges = edge_pixels<M, S>(m, o, X0, Y0, W, H, probe, poll, cancelled, probes);
+    classes = pixel_classes<M, S>(m, o, X0, Y0, W, H, probe, find_edges, find_details, poll, cancelled, probes);
     if (cancelled || stopped) {
       out.completed = false;
       return out;
     }
   }
-  out.edge_pixels = int64_t(edges.size());
-  out.edge_list.assign(edges.begin(), edges.end());
+  // The pixels given k x o.spp samples, by k (the edge pixels, then the detail pixels).
+  struct Group {
+    int64_t k;
+    std::vector<size_t> pixels;
+  };
+  Group groups[2] = {{E, {}}, {D, {}}};
+  for (const int64_t c : classes)
+    groups[c % kPixelClasses == kEdgePixel ? 0 : 1].pixels.push_back(size_t(c / kPixelClasses));
+  out.edge_pixels = int64_t(groups[0].pixels.size());
+  out.detail_pixels = int64_t(groups[1].pixels.size());
+  out.pixel_classes = classes;
 
-  // The pixels of the main passes: all of them in the first range (an edge pixel's first samples [0, B1)
-  // come with everyone's, so an interrupted first range is a whole image); later, only the others, an edge
-  // pixel's range [E B, E B1) being all in its own passes.
+  // The pixels of the main passes: all of them in the first range (a pixel's first samples [0, B1) come with
+  // everyone's, so an interrupted first range is a whole image); later, only the others, an edge or detail
+  // pixel's range [k B, k B1) being all in its own passes.
   std::vector<size_t> main_pixels;
-  const bool all_main = B == 0 || edges.empty();
+  const bool all_main = B == 0 || classes.empty();
   if (!all_main) {
-    main_pixels.reserve(npix - edges.size());
+    main_pixels.reserve(npix - classes.size());
     for (size_t p = 0, e = 0; p < npix; ++p) {
-      if (e < edges.size() && edges[e] == p) ++e;
+      if (e < classes.size() && size_t(classes[e] / kPixelClasses) == p) ++e;
       else main_pixels.push_back(p);
     }
   }
   const size_t nmain = all_main ? npix : main_pixels.size();
-  const int64_t edge_s0 = B == 0 ? B1 : E * B, edge_s1 = E * B1;  // the edge pixels' own samples
-  total = int64_t(nmain) * o.spp + (edges.empty() ? 0 : int64_t(edges.size()) * (edge_s1 - edge_s0));
+  total = int64_t(nmain) * o.spp;
 
-  // Progressive passes (1, 1, 2, 4, ... samples) so an interrupted render is a whole image; then the edge
-  // pixels' further samples, doubling.
+  // Progressive passes (1, 1, 2, 4, ... samples) so an interrupted render is a whole image; then each group's
+  // further samples, doubling.
   struct Pass {
     int64_t s0, s1;
-    bool edges_only;
+    const std::vector<size_t>* pixels;  // a group's, or null: the main pixels
   };
   std::vector<Pass> passes;
   for (int64_t s0 = B, n = 1; s0 < B1; s0 += n, n = std::min<int64_t>(2 * n, 64))
-    passes.push_back({s0, std::min(B1, s0 + n), false});
-  if (!edges.empty()) {
-    for (int64_t s0 = edge_s0, n = std::min<int64_t>(o.spp, 64); s0 < edge_s1;
-         s0 += n, n = std::min<int64_t>(2 * n, 64))
-      passes.push_back({s0, std::min(edge_s1, s0 + n), true});
+    passes.push_back({s0, std::min(B1, s0 + n), nullptr});
+  for (const Group& g : groups) {
+    if (g.pixels.empty()) continue;
+    const int64_t s0 = B == 0 ? B1 : g.k * B, s1 = g.k * B1;  // the group's own samples
+    total += int64_t(g.pixels.size()) * (s1 - s0);
+    for (int64_t s = s0, n = std::min<int64_t>(o.spp, 64); s < s1; s += n, n = std::min<int64_t>(2 * n, 64))
+      passes.push_back({s, std::min(s1, s + n), &g.pixels});
   }
   std::atomic<int64_t> counts[6];
   for (int k = 0; k < 6; ++k) counts[k] = probes.counts[k];
   std::atomic<int64_t> steps{probes.steps}, segments{probes.segments};
   constexpr size_t kChunk = 64;  // pixels per parallel task
   for (const auto& pass : passes) {
-    const size_t nwork = pass.edges_only ? edges.size() : nmain;
+    const size_t nwork = pass.pixels ? pass.pixels->size() : nmain;
     const size_t nchunks = (nwork + kChunk - 1) / kChunk;
     auto body = [&](size_t c) {
       const size_t p0 = c * kChunk, p1 = std::min(nwork, p0 + kChunk);
       const size_t ns = size_t(pass.s1 - pass.s0), njobs = (p1 - p0) * ns;
       auto pixel = [&](size_t k) {
         const size_t i = p0 + k / ns;
-        return pass.edges_only ? edges[i] : all_main ? i : main_pixels[i];
+        return pass.pixels ? (*pass.pixels)[i] : all_main ? i : main_pixels[i];
       };
       std::vector<SampleOut> outs(njobs);
       RenderStats st;

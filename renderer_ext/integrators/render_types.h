@@ -30,9 +30,10 @@ enum SegmentMethodKind : int { kClosedFormSegments = 0, kIntegratedSegments = 1 
 // resolved against its table (warpviz/options.py: one row per option, its default and range), so the
 // initial values here are zeros, not defaults: a default lives in that table alone.
 struct RenderOptions {
-  // Samples [sample_begin, sample_begin + spp) of every pixel ([E * sample_begin, E * (sample_begin + spp)) of
-  // an edge pixel, E = edge_samples): a render in passes over consecutive ranges holds exactly the samples
-  // of one render of their total (render_loop.h), so it can stop after any pass and resume later.
+  // Samples [sample_begin, sample_begin + spp) of every pixel, [k sample_begin, k (sample_begin + spp)) of a
+  // pixel given k x spp samples (an edge or detail pixel, render_loop.h: pixel_classes): a render in passes
+  // over consecutive ranges holds exactly the samples of one render of their total, so it can stop after any
+  // pass and resume later.
   int spp = 0;
   int sample_begin = 0;
   uint64_t seed = 0;
@@ -48,14 +49,18 @@ struct RenderOptions {
   int lens_images = 0;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
   int pixel_sampler = kSobolPixels;
   // Pixels on the edge of a light seen directly or in mirrors and glass, or seeing one in glass by some
-  // samples' Fresnel choice only (render_loop.h: edge_pixels) get edge_samples x spp samples: the lamp's edge
-  // inside a pixel (a lensed lamp's thin arcs) and its reflection in glass are noise no light connection
-  // touches.
+  // samples' Fresnel choice only, get edge_samples x spp samples: the lamp's edge inside a pixel (a lensed
+  // lamp's thin arcs) and its reflection in glass are noise no light connection touches.
   int edge_samples = 0;
-  // The window's edge pixels (indices into the window, ascending) when a previous range found them
-  // (RenderResult::edge_list): the probes are then not traced again.
-  bool edges_given = false;
-  std::vector<int64_t> edges;
+  // Pixels whose footprint holds more than one surface, seen directly or in mirrors and glass (an object's
+  // outline, the squeezed images of the room round a hole's shadow, the room in a glass ball), get
+  // detail_samples x spp samples (an edge pixel the larger of the two multiples): the denoiser cannot rebuild
+  // detail below a pixel from its features, so that is where a denoised image's error is (render_loop.h).
+  int detail_samples = 0;
+  // The window's edge and detail pixels (RenderResult::pixel_classes) when a previous range found them: the
+  // probes are then not traced again.
+  bool classes_given = false;
+  std::vector<int64_t> classes;
   int filter = kBoxFilter;     // pixel reconstruction filter (film/pixel_filter.h), by importance sampling
   double filter_radius = 0.0;  // its support's half-width in pixels
   bool batch = false;      // curved space: step the geodesics of many samples together in SIMD lanes
@@ -73,6 +78,19 @@ struct RenderOptions {
   int record_samples = 0;              // ... their samples [0, record_samples) (of whichever ranges)
   // Called from the calling thread every ~20 ms with (samples done, samples total); false cancels.
   std::function<bool(int64_t, int64_t)> poll;
+};
+
+// What a pixel's probes found (render_loop.h: pixel_classes): its samples are a multiple of spp by its class.
+enum PixelClass : int { kPlainPixel = 0, kDetailPixel = 1, kEdgePixel = 2 };
+constexpr int64_t kPixelClasses = 4;  // pixel_classes entries: kPixelClasses * index + class
+
+// What the camera ray through one point of the probe lattice sees (PathTracer::probe): `light`, a signature of
+// its specular branches that end on an emitter (0: none; kProbeMixed where some do and some do not); `shape`,
+// a signature of where every branch ends (which object, the sky, the hole).
+constexpr int32_t kProbeMixed = -1;
+struct ProbeHit {
+  int32_t light = 0;
+  uint32_t shape = 0;
 };
 
 enum SegmentKind : int8_t { kCameraSegment = 0, kBounceSegment = 1, kLightSegment = 2 };
@@ -97,8 +115,10 @@ struct RenderResult {
   int64_t status_counts[6] = {0, 0, 0, 0, 0, 0};  // geodesic segments by RayStatus
   int64_t total_steps = 0;
   int64_t segments = 0;
-  int64_t edge_pixels = 0;  // pixels given edge_samples x spp samples
-  std::vector<int64_t> edge_list;  // those pixels (indices into the window, ascending)
+  int64_t edge_pixels = 0;    // pixels given max(edge_samples, detail_samples) x spp samples
+  int64_t detail_pixels = 0;  // (other) pixels given detail_samples x spp samples
+  // Those pixels, ascending: kPixelClasses * (index into the window) + their PixelClass.
+  std::vector<int64_t> pixel_classes;
   int num_columns = 0;
   std::vector<RecordedSegment> recorded;
 };

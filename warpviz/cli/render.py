@@ -96,6 +96,9 @@ def render(
     edge_samples: Optional[int] = typer.Option(
         None, "--edge-samples", min=1, max=MAX_EDGE_SAMPLES, help=option_help("edge_samples")
     ),
+    detail_samples: Optional[int] = typer.Option(
+        None, "--detail-samples", min=1, max=MAX_EDGE_SAMPLES, help=option_help("detail_samples")
+    ),
     max_error_fraction: float = typer.Option(
         MAX_ERROR_FRACTION, "--max-error-fraction", min=0.0, max=1.0,
         help="Exit with code 3 when more than this fraction of the samples failed (a geodesic ran out of "
@@ -156,7 +159,8 @@ def render(
             img = _render_scene(sc, spp=spp, size=size, seed=seed, threads=threads, flat=flat, paper=paper,
                                 light_sampling=False if no_light_sampling else None, progress=progress,
                                 light_connection=light_connection, crop=crop, aovs=aovs,
-                                denoise=denoise, edge_samples=edge_samples, time_limit=seconds_budget,
+                                denoise=denoise, edge_samples=edge_samples, detail_samples=detail_samples,
+                                time_limit=seconds_budget,
                                 noise_target=noise_target, resume=resume, client=client, tile=tile)  # fmt: skip
         if target.suffix.lower() == ".exr":
             _keep_aovs(img, sc.outputs.get("aovs"))

@@ -84,20 +84,20 @@ def _tile_pass(native: dict, options: dict, tile: tuple, state: dict | None, ext
     x, y, w, h = tile
     opts = {**options, **extra, "crop": [x, y, w, h], "progress": None,
             "film": None if state is None else state["film"],
-            "edge_list": None if state is None else state["edge_list"]}  # fmt: skip
+            "pixel_classes": None if state is None else state["pixel_classes"]}  # fmt: skip
     record = options.get("record_pixels")
     if record is not None:
         inside = (record[:, 0] >= x) & (record[:, 0] < x + w) & (record[:, 1] >= y) & (record[:, 1] < y + h)
         opts["record_pixels"] = np.ascontiguousarray(record[inside]) if inside.any() else None
     raw = core.render(native, opts)
-    return {"film": raw["film"], "edge_list": raw["edge_list"], "completed": bool(raw["completed"]),
+    return {"film": raw["film"], "pixel_classes": raw["pixel_classes"], "completed": bool(raw["completed"]),
             "stats": raw["stats"], "rays": raw.get("rays"), "noise_parts": tuple(core.film_noise_parts(raw["film"])),
             "samples": int(raw["film"]["samples"].sum())}  # fmt: skip
 
 
 def _summary(result: dict) -> dict:
     """What the client needs of a tile's pass: all but its film."""
-    return {k: v for k, v in result.items() if k not in ("film", "edge_list")}
+    return {k: v for k, v in result.items() if k not in ("film", "pixel_classes")}
 
 
 def _worker_facts() -> dict:
@@ -122,7 +122,7 @@ class TileFilms:
     tiles : tuple of tuple of int
         ``(x, y, width, height)`` of each tile.
     futures : tuple
-        A ``distributed.Future`` of each tile's state (its film and edge pixels), or None.
+        A ``distributed.Future`` of each tile's state (its film and edge and detail pixels), or None.
     samples_total : int
         Samples in all the tiles' films.
     window : tuple of int
@@ -184,7 +184,7 @@ class TiledPasses:
         self.metric = metric
         self.window = tuple(options["crop"])
         self.tiles = tuple(tile_windows(self.window, tile))
-        self.options = {k: v for k, v in options.items() if k not in ("progress", "film", "edge_list")}
+        self.options = {k: v for k, v in options.items() if k not in ("progress", "film", "pixel_classes")}
         [self.native] = client.scatter([native])
         self.threads = sum(client.nthreads().values()) * max(1, int(options["threads"]))
         self._run = uuid.uuid4().hex[:8]
@@ -208,7 +208,7 @@ class TiledPasses:
                     for k, v in film.items()}  # fmt: skip
             part["x0"], part["y0"] = x, y
             self._samples[len(states)] = int(part["samples"].sum())
-            states.append({"film": part, "edge_list": None})
+            states.append({"film": part, "pixel_classes": None})
         return tuple(self.client.scatter(states))
 
     def expect(self, begin: int, sizes: list[int]) -> None:
@@ -258,7 +258,7 @@ class TiledPasses:
         self._queue_ahead(begin, n, results)
         index = {s.key: i for i, s in enumerate(summaries)}
         got: dict[int, dict] = {}
-        expected = n * self.window[2] * self.window[3]  # (edge pixels add a few)
+        expected = n * self.window[2] * self.window[3]  # (edge and detail pixels add a few)
         t0 = time.perf_counter()
         try:
             for fut in as_completed(summaries):
@@ -281,10 +281,10 @@ class TiledPasses:
         self._samples = {i: r["samples"] for i, r in enumerate(ordered)}
         stats: dict = {}
         for r in ordered:
-            stats = add_stats(stats, r["stats"], summed=("segments", "steps", "edge_pixels"))
+            stats = add_stats(stats, r["stats"], summed=("segments", "steps", "edge_pixels", "detail_pixels"))
         stats["seconds"] = time.perf_counter() - t0
         stats["threads"] = self.threads
-        raw = {"completed": all(r["completed"] for r in ordered), "edge_list": None, "stats": stats,
+        raw = {"completed": all(r["completed"] for r in ordered), "pixel_classes": None, "stats": stats,
                "film": TileFilms(self.tiles, tuple(results), sum(r["samples"] for r in ordered), self.window),
                "noise": _noise([r["noise_parts"] for r in ordered])}  # fmt: skip
         rays = [r["rays"] for r in ordered if r["rays"] is not None and len(r["rays"]["offsets"]) > 1]

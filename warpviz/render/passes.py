@@ -1,10 +1,10 @@
 """Rendering in passes: a sample budget, a time budget and a noise target, each checked between passes.
 
-A pass renders samples ``[N, N + n)`` of every pixel (``[E N, E (N + n))`` of a pixel on a directly seen
-light's edge, ``E = edge_samples``) into the film of the passes before it (``renderer_ext``:
-``render_loop.h``), whose sums the core continues in sample order. Any split of ``[0, N)`` into passes
-therefore gives the image of one render of ``N`` samples per pixel, bit for bit; a render can stop
-after any pass (time budget, noise target, Ctrl-C) and be resumed later from its EXR
+A pass renders samples ``[N, N + n)`` of every pixel (``[k N, k (N + n))`` of a pixel on a directly seen
+light's edge, ``k = edge_samples``, or holding detail, ``k = detail_samples``) into the film of the passes
+before it (``renderer_ext``: ``render_loop.h``), whose sums the core continues in sample order. Any
+split of ``[0, N)`` into passes therefore gives the image of one render of ``N`` samples per pixel, bit
+for bit; a render can stop after any pass (time budget, noise target, Ctrl-C) and be resumed later from its EXR
 (:mod:`warpviz.render.resume`, to float32 rounding). Which passes run depends on timing only through
 *how many* samples are reached, never through what they add.
 
@@ -140,7 +140,7 @@ class PassReport:
     Attributes
     ----------
     spp : int
-        Samples per pixel reached (edge pixels: ``edge_samples`` times as many).
+        Samples per pixel reached (edge and detail pixels: ``edge_samples`` or ``detail_samples`` times as many).
     passes : int
         Passes done (with those of a resumed image).
     seconds : float
@@ -171,8 +171,9 @@ class PassesDone:
         Samples per pixel in it.
     passes : int
         Passes in it.
-    edges : numpy.ndarray or None
-        (K,) int64 window indices of the edge pixels, once a pass has found them.
+    classes : numpy.ndarray or None
+        (K,) int64: the window's pixels that get more samples (an edge or detail pixel), ``4 x index + class``
+        (``renderer_ext``: ``render_loop.h``, ``pixel_classes``), once a pass has found them.
     stats : dict
         Segment counts, steps and seconds summed over this call's passes.
     rays : list of dict
@@ -184,7 +185,7 @@ class PassesDone:
     film: dict | None
     spp: int
     passes: int
-    edges: np.ndarray | None = None
+    classes: np.ndarray | None = None
     stats: dict = field(default_factory=dict)
     rays: tuple = ()
     noise: float = math.nan
@@ -192,7 +193,7 @@ class PassesDone:
 
 def add_stats(total: dict, add: dict, *, summed: tuple[str, ...] = ("seconds", "segments", "steps")) -> dict:
     """The core's statistics of two ranges (two passes, or two tiles of one pass) as one: the ``summed`` keys
-    and nested counts added, the others (threads, edge pixels of the same window) taken from ``add``."""
+    and nested counts added, the others (threads, edge and detail pixels of the same window) taken from ``add``."""
     out = dict(total)
     for key, value in add.items():
         if isinstance(value, dict):
@@ -200,7 +201,7 @@ def add_stats(total: dict, add: dict, *, summed: tuple[str, ...] = ("seconds", "
         elif key in summed:
             out[key] = total.get(key, 0) + value
         else:
-            out[key] = value  # threads, edge_pixels: the same each pass
+            out[key] = value  # threads, edge_pixels, detail_pixels: the same each pass
     return out
 
 
@@ -215,8 +216,8 @@ def run_passes(render_range: Callable[[dict], dict], start: PassesDone, *, npix:
     ----------
     render_range : callable
         ``render_range(options)`` runs the core on one range; ``options`` holds ``spp``,
-        ``sample_begin``, ``film``, ``edge_list`` and ``progress``; it returns the core's dict
-        (``film``, ``noise``, ``edge_list``, ``completed``, ``stats``, ``rays``).
+        ``sample_begin``, ``film``, ``pixel_classes`` and ``progress``; it returns the core's dict
+        (``film``, ``noise``, ``pixel_classes``, ``completed``, ``stats``, ``rays``).
     start : PassesDone
         The passes already done (a resumed image's, or none).
     npix : int, keyword-only
@@ -270,7 +271,7 @@ def run_passes(render_range: Callable[[dict], dict], start: PassesDone, *, npix:
                 return progress(_base + done, max(expected, _base + done))
 
             raw = render_range({"spp": n, "sample_begin": state.spp, "film": state.film,
-                                "edge_list": state.edges, "progress": poll})  # fmt: skip
+                                "pixel_classes": state.classes, "progress": poll})  # fmt: skip
             if not raw["completed"]:
                 if state.film is None:  # nothing finished yet: the partial pass is all there is
                     state = PassesDone(raw["film"], 0, 0, None, add_stats(state.stats, raw["stats"]),
@@ -278,7 +279,7 @@ def run_passes(render_range: Callable[[dict], dict], start: PassesDone, *, npix:
                 return state, False, "interrupted"
             added = film_samples(raw["film"]) - (film_samples(state.film) if state.film is not None else 0)
             state = PassesDone(
-                film=raw["film"], spp=state.spp + n, passes=state.passes + 1, edges=raw["edge_list"],
+                film=raw["film"], spp=state.spp + n, passes=state.passes + 1, classes=raw["pixel_classes"],
                 stats=add_stats(state.stats, raw["stats"]),
                 rays=state.rays + ((raw["rays"],) if "rays" in raw else ()),
                 noise=float(raw["noise"]),

@@ -29,15 +29,18 @@ import numpy as np
 
 from warpviz.render.image import read_exr  # here too: resuming starts from one
 
-__all__ = ["RESUME_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "saved_resume", "resume_problem",
+__all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "saved_resume", "resume_problem",
            "film_from_image"]
 
 #: The render options that decide what each sample adds (so a resumed image must have been rendered with
 #: the same); spp, threads, batch (bit-identical either way), progress and the limits do not.
 RESUME_SETTINGS = ("seed", "max_depth", "rr_depth", "light_sampling", "stepper", "tol", "max_steps",
                    "escape_radius", "max_drift", "chord_tolerance", "segment_method", "light_connection", "lens_images",
-                   "pixel_sampler", "edge_samples", "filter", "filter_radius", "aim_lights", "light_margin",
+                   "pixel_sampler", "edge_samples", "detail_samples", "filter", "filter_radius", "aim_lights", "light_margin",
                    "pilot_tol", "crop")  # fmt: skip
+
+#: What an image written before a setting existed was rendered with (``detail_samples``: none had more).
+IMPLIED_SETTINGS = {"detail_samples": 1}
 
 
 def _digest(node, h) -> None:
@@ -124,8 +127,9 @@ def resume_problem(img, *, settings: dict, sha256: str, aovs: list[str] | None, 
     if scene is not None and meta.get("scene") is not None and Path(meta["scene"]).name != Path(scene).name:
         return f"{name} was rendered from another scene ({Path(meta['scene']).name}; this render is of {Path(scene).name})"
     for key in ("size", "metric", "metric_params", *RESUME_SETTINGS):
-        if old.get(key) != settings.get(key):
-            return f"{name} was rendered with {key} = {_show(old.get(key))}; this render has {key} = {_show(settings.get(key))}"
+        was = old.get(key, IMPLIED_SETTINGS.get(key))
+        if was != settings.get(key):
+            return f"{name} was rendered with {key} = {_show(was)}; this render has {key} = {_show(settings.get(key))}"
     if saved.get("scene_sha256") != sha256:
         where = f" ({Path(meta['scene']).name})" if meta.get("scene") else ""
         return (f"{name} was rendered from another scene{where}, or the scene has changed since: its objects, "
@@ -137,8 +141,8 @@ def resume_problem(img, *, settings: dict, sha256: str, aovs: list[str] | None, 
                     "render keeps the image's)")  # fmt: skip
     spp = meta.get("spp")
     counts = np.asarray(img.aovs["samples"])
-    edge = int(old.get("edge_samples", 1))
-    if not isinstance(spp, int) or spp < 1 or not np.isin(counts, (spp, spp * edge)).all():
+    edge, detail = int(old.get("edge_samples", 1)), int(old.get("detail_samples", 1))
+    if not isinstance(spp, int) or spp < 1 or not np.isin(counts, (spp, spp * max(edge, detail), spp * detail)).all():
         return f"{name}'s samples per pixel do not match its header's spp = {spp!r}: it was not written whole"
     return None
 
