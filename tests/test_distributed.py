@@ -211,3 +211,22 @@ def test_a_film_on_the_cluster_is_the_local_film(cluster2, tmp_path):
     for k in range(2):
         a, b = (wv.Image.open(tmp_path / d / f"frame_{k:05d}.exr") for d in ("local", "dask"))
         np.testing.assert_array_equal(a.rgb, b.rgb)
+
+
+def test_each_render_scatters_its_scene_and_films_under_keys_of_its_own(cluster2):
+    """Scattered under the content's hash, two renders of one scene would share the scene's key, and a first
+    render's future released as the second scatters makes the scheduler forget the data the second's tasks
+    need: they fail with "lost dependencies" (dask/distributed#8576; a scatter, submit and release of the same
+    scene in a loop fails so nearly every time). So each render scatters under keys of its own."""
+    from warpviz.render.distributed import TiledPasses
+
+    _, client = cluster2
+    native = wv.scene.load_scene("fig03").native(width=8, height=6)
+    options = {"crop": (0, 0, 8, 6), "threads": 1}
+    a, b = (TiledPasses(client, native, options, tile=4) for _ in range(2))
+    assert a.native.key != b.native.key
+    film = wv.render("fig03", width=8, height=6, spp=1, aovs=[], progress=None)
+    from warpviz.render.resume import film_from_image
+
+    part = film_from_image(film, [])
+    assert {f.key for f in a._start(part)}.isdisjoint(f.key for f in b._start(part))

@@ -185,7 +185,11 @@ class TiledPasses:
         self.window = tuple(options["crop"])
         self.tiles = tuple(tile_windows(self.window, tile))
         self.options = {k: v for k, v in options.items() if k not in ("progress", "film", "pixel_classes")}
-        [self.native] = client.scatter([native])
+        # Scattered under a key of this render's own (hash=False): under the content's hash a second render of
+        # the same scene reuses the key of the first, and when the first render's future is released as the
+        # second scatters, the scheduler can forget the data the second's tasks need ("lost dependencies",
+        # dask/distributed#8576: seen here as a rare failure of consecutive renders of one scene).
+        [self.native] = client.scatter([native], hash=False)
         self.threads = sum(client.nthreads().values()) * max(1, int(options["threads"]))
         self._run = uuid.uuid4().hex[:8]
         self._pass = 0
@@ -209,7 +213,7 @@ class TiledPasses:
             part["x0"], part["y0"] = x, y
             self._samples[len(states)] = int(part["samples"].sum())
             states.append({"film": part, "pixel_classes": None})
-        return tuple(self.client.scatter(states))
+        return tuple(self.client.scatter(states, hash=False))  # (as the scene: a key of this render's own)
 
     def expect(self, begin: int, sizes: list[int]) -> None:
         """The passes :func:`~warpviz.render.passes.run_passes` will ask for from sample ``begin`` (a render
