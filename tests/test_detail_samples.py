@@ -91,7 +91,8 @@ def test_the_probes_see_the_room_squeezed_round_a_shadow():
     shadow = img.aovs["status"] == 2  # (sample 0's camera ray crossed the horizon)
     assert shadow.sum() > 20
     rim = np.zeros_like(shadow)
-    rim[1:-1, 1:-1] = ~shadow[1:-1, 1:-1] & (shadow[:-2, 1:-1] | shadow[2:, 1:-1] | shadow[1:-1, :-2] | shadow[1:-1, 2:])
+    inner, near = ~shadow[1:-1, 1:-1], shadow[:-2, 1:-1] | shadow[2:, 1:-1] | shadow[1:-1, :-2] | shadow[1:-1, 2:]
+    rim[1:-1, 1:-1] = inner & near
     assert rim.sum() > 8 and detail[rim].mean() > 0.9
     assert detail.mean() < 0.5
 
@@ -127,7 +128,8 @@ def test_an_image_from_before_detail_samples_resumes_as_one_without():
     img = wv.render(FLAT, spp=1, seed=3, progress=None, aovs=[])
     settings = dict(img.metadata["resume"]["settings"])
     assert settings.pop("detail_samples") == 1
-    old = dataclasses.replace(img, metadata={**img.metadata, "resume": {**img.metadata["resume"], "settings": settings}})
+    record = {**img.metadata["resume"], "settings": settings}
+    old = dataclasses.replace(img, metadata={**img.metadata, "resume": record})
     more = wv.render(FLAT, spp=2, seed=3, resume=old, progress=None)
     direct = wv.render(FLAT, spp=2, seed=3, aovs=[], progress=None)
     assert more.metadata["detail_samples"] == 1

@@ -1,10 +1,9 @@
 // The render loop: progressive passes (1, 1, 2, 4, ... samples per pixel, so an interrupted render is a
 // whole image) over chunks of pixels in parallel, then further samples in the pixels on the edge of a
 // light seen directly or in mirrors and glass and in those holding more than one surface (found first, by
-// probe rays on a fixed lattice), progress
-// and cancellation, and the film's accumulation of what the samples add, in (pixel, sample) order
-// whatever order they finished in; the recorded pixels' segments and the segment statistics are collected
-// on the way.
+// probe rays on a fixed lattice), progress and cancellation, and the film's accumulation of what the
+// samples add, in (pixel, sample) order whatever order they finished in; the recorded pixels' segments and
+// the segment statistics are collected on the way.
 #pragma once
 
 #include <algorithm>

@@ -303,7 +303,8 @@ def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_
     render = _renderer()
     width, height = size if size is not None else (None, None)
     extra = {"denoise": True} if denoise else {}  # only when asked: a stand-in renderer need not know them
-    for key, value in (("edge_samples", edge_samples), ("detail_samples", detail_samples), ("time_limit", time_limit), ("noise_target", noise_target),
+    for key, value in (("edge_samples", edge_samples), ("detail_samples", detail_samples), ("time_limit", time_limit),
+                       ("noise_target", noise_target),
                        ("resume", resume), ("on_pass", getattr(progress, "on_pass", None)), ("client", client),
                        ("tile", tile)):  # fmt: skip
         if value is not None:

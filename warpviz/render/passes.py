@@ -4,8 +4,8 @@ A pass renders samples ``[N, N + n)`` of every pixel (``[k N, k (N + n))`` of a 
 light's edge, ``k = edge_samples``, or holding detail, ``k = detail_samples``) into the film of the passes
 before it (``renderer_ext``: ``render_loop.h``), whose sums the core continues in sample order. Any
 split of ``[0, N)`` into passes therefore gives the image of one render of ``N`` samples per pixel, bit
-for bit; a render can stop after any pass (time budget, noise target, Ctrl-C) and be resumed later from its EXR
-(:mod:`warpviz.render.resume`, to float32 rounding). Which passes run depends on timing only through
+for bit; a render can stop after any pass (time budget, noise target, Ctrl-C) and be resumed later from
+its EXR (:mod:`warpviz.render.resume`, to float32 rounding). Which passes run depends on timing only through
 *how many* samples are reached, never through what they add.
 
 Pass sizes (:func:`standard_pass`): 1, 1, 2, 4, ... samples per pixel (doubling the samples so far, so

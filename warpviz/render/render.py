@@ -40,8 +40,8 @@ from warpviz.render.denoise import DENOISE_AOVS, require_denoiser
 from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
 from warpviz.render.passes import PASS_SAMPLES, PassesDone, PassReport, concat_rays, pass_plan, run_passes
-from warpviz.render.resume import (IMPLIED_SETTINGS, film_from_image, read_exr, resume_problem, resume_settings, saved_resume,
-                                   scene_sha256)
+from warpviz.render.resume import (IMPLIED_SETTINGS, film_from_image, read_exr, resume_problem, resume_settings,
+                                   saved_resume, scene_sha256)
 from warpviz.scene.native import native_scene, scene_emits
 from warpviz.spacetime import metric_from_params
 from warpviz.tracing import RayBundle, default_max_drift, recorded_point_data
@@ -183,10 +183,9 @@ def render(
         outline, the room squeezed into thin rings round a hole's shadow, the room seen in a glass ball) it
         can only blur what the samples found, and there most of a denoised image's error is (fig10d at
         640x480 and 16 spp, 3.5 % of the pixels: x6 gives 35 % less denoised error for 14 % more time).
-        Found by the
-        same probe rays as the edge pixels (a pixel whose nine disagree on which object, or the sky or the
-        hole, each of their branches ends on), so the image stays unbiased; ``stats["detail_pixels"]`` says
-        how many.
+        Found by the same probe rays as the edge pixels (a pixel whose nine disagree on which object, or
+        the sky or the hole, each of their branches ends on), so the image stays unbiased;
+        ``stats["detail_pixels"]`` says how many.
     filter : {"box", "gaussian", "mitchell"}, optional, keyword-only
         Pixel reconstruction filter (default ``"box"``: each pixel averages its own square). Each camera
         sample's offset from its pixel's centre is drawn from the filter and its radiance weighted by

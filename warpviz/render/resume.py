@@ -29,15 +29,15 @@ import numpy as np
 
 from warpviz.render.image import read_exr  # here too: resuming starts from one
 
-__all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "saved_resume", "resume_problem",
-           "film_from_image"]
+__all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "saved_resume",
+           "resume_problem", "film_from_image"]
 
 #: The render options that decide what each sample adds (so a resumed image must have been rendered with
 #: the same); spp, threads, batch (bit-identical either way), progress and the limits do not.
 RESUME_SETTINGS = ("seed", "max_depth", "rr_depth", "light_sampling", "stepper", "tol", "max_steps",
                    "escape_radius", "max_drift", "chord_tolerance", "segment_method", "light_connection", "lens_images",
-                   "pixel_sampler", "edge_samples", "detail_samples", "filter", "filter_radius", "aim_lights", "light_margin",
-                   "pilot_tol", "crop")  # fmt: skip
+                   "pixel_sampler", "edge_samples", "detail_samples", "filter", "filter_radius", "aim_lights",
+                   "light_margin", "pilot_tol", "crop")  # fmt: skip
 
 #: What an image written before a setting existed was rendered with (``detail_samples``: none had more).
 IMPLIED_SETTINGS = {"detail_samples": 1}
