@@ -11,6 +11,12 @@ bit-identical (a change that should not move a pixel is checked by the same run)
     python benchmarks/bench_builds.py /tmp/core_before.so build/*/_core*.so
     python benchmarks/bench_builds.py A.so B.so --renders mitsuba:128x128:64,fig03:160x120:32 --repeat 5
     python benchmarks/bench_builds.py --quick       # the installed build against itself (seconds)
+    python benchmarks/bench_builds.py A.so B.so --renders far-kerr:128x128:1 --repeat 5   # geodesics/s
+
+A render named ``far-kerr`` or ``far-schwarzschild`` is not a scene but the far observer's image plane of
+``bench_geodesics.py`` (r = 1000 M, inclination 60 deg, +-15 M; Kerr a = 0.9 or Schwarzschild), WIDTH x
+WIDTH rays traced to escape or capture with dopri5 at tol 1e-8 in SIMD batches on one thread (its SPP is
+ignored): the geodesic throughput of each build, printed as rays per CPU second.
 
 Writes ``builds.csv`` (one row per render) to ``--out`` (default benchmarks/results) and prints a table.
 """
@@ -33,6 +39,10 @@ RESULTS = Path(__file__).resolve().parent / "results"
 #: (Schwarzschild, closed-form segments) and fig10d (Kerr, integrated).
 DEFAULT_RENDERS = "mitsuba:128x128:64,fig03:160x120:32,fig07:96x72:16,fig10d:96x72:16"
 
+#: The far observers' image planes (bench_geodesics.py) a render may name instead of a scene: their metrics.
+FAR_OBSERVERS = {"far-kerr": ("Kerr", {"mass": 1.0, "spin": 0.9}),
+                 "far-schwarzschild": ("Schwarzschild", {"mass": 1.0})}
+
 
 def _child(core: str, scene: str, size: str, spp: int, image: str) -> None:
     """In a fresh process: load ``core`` as warpviz._core, render on one thread, print the CPU seconds."""
@@ -48,6 +58,19 @@ def _child(core: str, scene: str, size: str, spp: int, image: str) -> None:
     if Path(wv._native.core.__file__).resolve() != Path(core).resolve():
         raise SystemExit(f"warpviz loaded {wv._native.core.__file__}, not {core}")
     w, h = (int(v) for v in size.split("x"))
+    if scene in FAR_OBSERVERS:
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from bench_geodesics import image_plane
+
+        name, params = FAR_OBSERVERS[scene]
+        origin, dirs = image_plane(w)
+        t0 = time.process_time()
+        rays = wv.trace(getattr(wv, name)(**params), origin, dirs, stepper="dopri5", tol=1e-8, threads=1,
+                        max_steps=10_000_000)  # fmt: skip
+        seconds = time.process_time() - t0
+        np.save(image, np.concatenate([rays.final_directions.ravel(), rays.status.astype(float).ravel()]))
+        print(json.dumps({"cpu_s": seconds, "rays": int(len(dirs))}))
+        return
     t0 = time.process_time()
     img = wv.render(scene, width=w, height=h, spp=spp, seed=1, progress=None, threads=1)
     seconds = time.process_time() - t0
@@ -67,20 +90,25 @@ def measure(a: Path, b: Path, renders: list[tuple[str, str, int]], repeat: int) 
     with tempfile.TemporaryDirectory() as tmp:
         for scene, size, spp in renders:
             times: dict[str, list[float]] = {"a": [], "b": []}
+            rays = 0
             for _ in range(repeat):
                 for name, core in (("a", a), ("b", b)):
                     out = subprocess.run([sys.executable, __file__, "--child", str(core), scene, size, str(spp),
                                           f"{tmp}/{name}.npy"], capture_output=True, text=True)  # fmt: skip
                     if out.returncode != 0:
                         raise SystemExit(f"the render of {scene} with {core} failed:\n{out.stderr}")
-                    times[name].append(json.loads(out.stdout.strip().splitlines()[-1])["cpu_s"])
+                    result = json.loads(out.stdout.strip().splitlines()[-1])
+                    times[name].append(result["cpu_s"])
+                    rays = result.get("rays", 0)
             same = bool(np.array_equal(np.load(f"{tmp}/a.npy"), np.load(f"{tmp}/b.npy")))
             rows.append({"scene": scene, "size": size, "spp": spp, "repeat": repeat,
                          "a_cpu_s_min": min(times["a"]), "a_cpu_s_median": float(np.median(times["a"])),
                          "b_cpu_s_min": min(times["b"]), "b_cpu_s_median": float(np.median(times["b"])),
                          "a_over_b_min": min(times["a"]) / min(times["b"]),
                          "a_over_b_median": float(np.median(times["a"]) / np.median(times["b"])),
-                         "identical": same})  # fmt: skip
+                         "identical": same, "rays": rays,
+                         "a_rays_per_s_best": rays / min(times["a"]) if rays else "",
+                         "b_rays_per_s_best": rays / min(times["b"]) if rays else ""})  # fmt: skip
     return rows
 
 
@@ -101,7 +129,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     for core in (a, b):
         if not Path(core).is_file():
             raise SystemExit(f"no compiled core at {core}")
-    spec = args.renders or ("fig03:16x12:2,fig07:8x6:1" if args.quick else DEFAULT_RENDERS)
+    spec = args.renders or ("fig03:16x12:2,fig07:8x6:1,far-kerr:8x8:1" if args.quick else DEFAULT_RENDERS)
     renders = []
     for item in spec.split(","):
         scene, size, spp = item.split(":")
@@ -116,6 +144,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         print(f"{r['scene']:8s} {r['size']:>9s} {r['spp']:4d} {r['a_cpu_s_min']:6.2f}/{r['a_cpu_s_median']:<6.2f} "
               f"{r['b_cpu_s_min']:6.2f}/{r['b_cpu_s_median']:<6.2f} {r['a_over_b_min']:8.3f} {r['a_over_b_median']:8.3f}"
               f"  {r['identical']}")  # fmt: skip
+        if r["rays"]:
+            print(f"{'':8s} {r['rays']} rays: A {r['a_rays_per_s_best']:.4g}, B {r['b_rays_per_s_best']:.4g} per CPU s "
+                  "(best)")  # fmt: skip
     args.out.mkdir(parents=True, exist_ok=True)
     write_csv(args.out / "builds.csv", rows)
     return rows

@@ -359,8 +359,9 @@ def test_builds_benchmark_quick_mode_compares_a_build_with_itself(tmp_path):
     import bench_builds
 
     rows = bench_builds.main(["--quick", "--out", str(tmp_path)])
-    assert [r["scene"] for r in rows] == ["fig03", "fig07"]
+    assert [r["scene"] for r in rows] == ["fig03", "fig07", "far-kerr"]
     assert all(r["identical"] and r["a_over_b_min"] > 0 for r in rows)  # the same build: the same images
-    assert len(read_csv(tmp_path / "builds.csv")) == 2
+    assert rows[2]["rays"] == 64 and rows[2]["a_rays_per_s_best"] > 0 and rows[0]["rays"] == 0  # geodesics/s
+    assert len(read_csv(tmp_path / "builds.csv")) == 3
     with pytest.raises(SystemExit, match="no compiled core"):
         bench_builds.main([str(tmp_path / "missing.so"), "--quick", "--out", str(tmp_path)])
