@@ -12,6 +12,7 @@ bit-identical (a change that should not move a pixel is checked by the same run)
     python benchmarks/bench_builds.py A.so B.so --renders mitsuba:128x128:64,fig03:160x120:32 --repeat 5
     python benchmarks/bench_builds.py --quick       # the installed build against itself (seconds)
     python benchmarks/bench_builds.py A.so B.so --renders far-kerr:128x128:1 --repeat 5   # geodesics/s
+    python benchmarks/bench_builds.py OLD/_core.so B.so --package-a OLD ...   # an old core with its own Python
 
 A render named ``far-kerr`` or ``far-schwarzschild`` is not a scene but the far observer's image plane of
 ``bench_geodesics.py`` (r = 1000 M, inclination 60 deg, +-15 M; Kerr a = 0.9 or Schwarzschild), WIDTH x
@@ -44,10 +45,15 @@ FAR_OBSERVERS = {"far-kerr": ("Kerr", {"mass": 1.0, "spin": 0.9}),
                  "far-schwarzschild": ("Schwarzschild", {"mass": 1.0})}
 
 
-def _child(core: str, scene: str, size: str, spp: int, image: str) -> None:
-    """In a fresh process: load ``core`` as warpviz._core, render on one thread, print the CPU seconds."""
+def _child(core: str, scene: str, size: str, spp: int, image: str, package: str = "") -> None:
+    """In a fresh process: load ``core`` as warpviz._core (and the warpviz package from the source tree
+    ``package`` where given, instead of the installed one), render on one thread, print the CPU seconds."""
     import importlib.util
     import time
+
+    if package:  # the tree's package, not the installed one (an editable install's finder would win)
+        sys.meta_path[:] = [f for f in sys.meta_path if "editable" not in type(f).__module__]
+        sys.path.insert(0, package)
 
     spec = importlib.util.spec_from_file_location("warpviz._core", core)
     module = importlib.util.module_from_spec(spec)
@@ -57,13 +63,13 @@ def _child(core: str, scene: str, size: str, spp: int, image: str) -> None:
 
     if Path(wv._native.core.__file__).resolve() != Path(core).resolve():
         raise SystemExit(f"warpviz loaded {wv._native.core.__file__}, not {core}")
+    if package and Path(wv.__file__).resolve().parents[1] != Path(package).resolve():
+        raise SystemExit(f"warpviz came from {wv.__file__}, not {package}")
     w, h = (int(v) for v in size.split("x"))
     if scene in FAR_OBSERVERS:
-        sys.path.insert(0, str(Path(__file__).resolve().parent))
-        from bench_geodesics import image_plane
-
         name, params = FAR_OBSERVERS[scene]
-        origin, dirs = image_plane(w)
+        plane = np.load(_plane_file(image, scene, size))  # (the parent's: the same rays for every build)
+        origin, dirs = plane[0], plane[1:]
         t0 = time.process_time()
         rays = wv.trace(getattr(wv, name)(**params), origin, dirs, stepper="dopri5", tol=1e-8, threads=1,
                         max_steps=10_000_000)  # fmt: skip
@@ -78,6 +84,11 @@ def _child(core: str, scene: str, size: str, spp: int, image: str) -> None:
     print(json.dumps({"cpu_s": seconds}))
 
 
+def _plane_file(image: str, scene: str, size: str) -> Path:
+    """Where the parent keeps a far observer's rays (origin, then the directions) beside a child's image."""
+    return Path(image).with_name(f"{scene}-{size}-rays.npy")
+
+
 def installed_core() -> Path:
     """The installed build's compiled core."""
     from warpviz import _native
@@ -85,16 +96,24 @@ def installed_core() -> Path:
     return Path(_native.core.__file__)
 
 
-def measure(a: Path, b: Path, renders: list[tuple[str, str, int]], repeat: int) -> list[dict]:
+def measure(a: Path, b: Path, renders: list[tuple[str, str, int]], repeat: int,
+            packages: dict[str, str] | None = None) -> list[dict]:
     rows = []
+    packages = packages or {}
     with tempfile.TemporaryDirectory() as tmp:
         for scene, size, spp in renders:
+            if scene in FAR_OBSERVERS:
+                from bench_geodesics import image_plane
+
+                origin, dirs = image_plane(int(size.split("x")[0]))
+                np.save(_plane_file(f"{tmp}/a.npy", scene, size), np.vstack([origin[None, :], dirs]))
             times: dict[str, list[float]] = {"a": [], "b": []}
             rays = 0
             for _ in range(repeat):
                 for name, core in (("a", a), ("b", b)):
                     out = subprocess.run([sys.executable, __file__, "--child", str(core), scene, size, str(spp),
-                                          f"{tmp}/{name}.npy"], capture_output=True, text=True)  # fmt: skip
+                                          f"{tmp}/{name}.npy", packages.get(name, "")],
+                                         capture_output=True, text=True)  # fmt: skip
                     if out.returncode != 0:
                         raise SystemExit(f"the render of {scene} with {core} failed:\n{out.stderr}")
                     result = json.loads(out.stdout.strip().splitlines()[-1])
@@ -118,6 +137,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     p.add_argument("b", nargs="?", type=Path, help="the core after; default: the installed one")
     p.add_argument("--renders", default=None, help=f"comma-separated scene:WIDTHxHEIGHT:SPP (default {DEFAULT_RENDERS})")
     p.add_argument("--repeat", type=int, default=None, help="timings of each build per render (default 3)")
+    p.add_argument("--package-a", default="", help="the source tree whose warpviz package runs with core A, where "
+                   "its Python layer differs from the installed one (e.g. `git archive OLD | tar -x -C DIR`)")
+    p.add_argument("--package-b", default="", help="the same for core B")
     p.add_argument("--quick", action="store_true", help="one tiny render of each (seconds; for tests)")
     p.add_argument("--out", type=Path, default=RESULTS)
     args = p.parse_args(argv)
@@ -136,7 +158,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
         renders.append((scene, size, int(spp)))
     repeat = args.repeat or (1 if args.quick else 3)
     print(machine_line(threads=1))
-    rows = measure(Path(a), Path(b), renders, repeat)
+    rows = measure(Path(a), Path(b), renders, repeat, {"a": args.package_a, "b": args.package_b})
     print(f"A = {a}\nB = {b}")
     print(f"{'scene':8s} {'size':>9s} {'spp':>4s} {'A min/med s':>13s} {'B min/med s':>13s} {'A/B min':>8s} "
           f"{'A/B med':>8s}  identical")  # fmt: skip
@@ -154,7 +176,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
 
 if __name__ == "__main__":
     if len(sys.argv) > 1 and sys.argv[1] == "--child":
-        _child(sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5]), sys.argv[6])
+        _child(sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5]), sys.argv[6], sys.argv[7])
     else:
         main()
     raise SystemExit(0)

@@ -363,5 +363,9 @@ def test_builds_benchmark_quick_mode_compares_a_build_with_itself(tmp_path):
     assert all(r["identical"] and r["a_over_b_min"] > 0 for r in rows)  # the same build: the same images
     assert rows[2]["rays"] == 64 and rows[2]["a_rays_per_s_best"] > 0 and rows[0]["rays"] == 0  # geodesics/s
     assert len(read_csv(tmp_path / "builds.csv")) == 3
+    # B run with a source tree's own package (here this one's): the child imports it, not the installed one
+    tree = str(Path(bench_builds.__file__).resolve().parents[1])
+    rows = bench_builds.main(["--package-b", tree, "--renders", "fig03:8x6:1", "--repeat", "1", "--out", str(tmp_path)])
+    assert rows[0]["identical"]
     with pytest.raises(SystemExit, match="no compiled core"):
         bench_builds.main([str(tmp_path / "missing.so"), "--quick", "--out", str(tmp_path)])
