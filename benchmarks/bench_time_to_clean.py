@@ -13,9 +13,9 @@ For each scene (default fig07 and fig10d) at ``--size`` (default 640x480):
    them (and the timed renders) on a Dask cluster, the same images bit for bit.
 2. **The renders**: two renders per entry of ``--spp`` (fresh, every core, seed 1), timed (wall clock):
    one as rendered, one with ``denoise=True`` (Intel Open Image Denoise, its time included; a denoised
-   render's own defaults, e.g. ``edge_samples`` 32 instead of 8); each error over every pixel and over the
-   pixels that do not see a light directly (``light_pixels``: the lamp's radiance dominates an MSE over
-   all of them, and the denoiser's error is mostly there). The relative MSE is the mean squared error
+   render's own defaults: ``edge_samples`` 32 instead of 8, ``detail_samples`` 8 instead of 1); each error
+   over every pixel and over the pixels that do not see a light directly (``light_pixels``: the lamp's
+   radiance dominates an MSE over all of them, and the denoiser's error is mostly there). The relative MSE is the mean squared error
    over pixels and channels divided by the squared mean of the reference, less the reference's noise.
 3. **Time to the target**: interpolated log-log on each method's runs (``time_at_error``); where the
    largest run is still above the target the time is extrapolated with MSE proportional to 1 / time (the
