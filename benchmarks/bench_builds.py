@@ -68,7 +68,7 @@ def _child(core: str, scene: str, size: str, spp: int, image: str, package: str 
     w, h = (int(v) for v in size.split("x"))
     if scene in FAR_OBSERVERS:
         name, params = FAR_OBSERVERS[scene]
-        plane = np.load(_plane_file(image, scene, size))  # (the parent's: the same rays for every build)
+        plane = np.load(_plane_file(Path(image).parent, scene, size))  # (the parent's: the same rays for each build)
         origin, dirs = plane[0], plane[1:]
         t0 = time.process_time()
         rays = wv.trace(getattr(wv, name)(**params), origin, dirs, stepper="dopri5", tol=1e-8, threads=1,
@@ -84,9 +84,9 @@ def _child(core: str, scene: str, size: str, spp: int, image: str, package: str 
     print(json.dumps({"cpu_s": seconds}))
 
 
-def _plane_file(image: str, scene: str, size: str) -> Path:
-    """Where the parent keeps a far observer's rays (origin, then the directions) beside a child's image."""
-    return Path(image).with_name(f"{scene}-{size}-rays.npy")
+def _plane_file(folder: Path, scene: str, size: str) -> Path:
+    """Where the parent keeps a far observer's rays (origin, then the directions), in the children's folder."""
+    return Path(folder) / f"{scene}-{size}-rays.npy"
 
 
 def installed_core() -> Path:
@@ -106,7 +106,7 @@ def measure(a: Path, b: Path, renders: list[tuple[str, str, int]], repeat: int,
                 from bench_geodesics import image_plane
 
                 origin, dirs = image_plane(int(size.split("x")[0]))
-                np.save(_plane_file(f"{tmp}/a.npy", scene, size), np.vstack([origin[None, :], dirs]))
+                np.save(_plane_file(tmp, scene, size), np.vstack([origin[None, :], dirs]))
             times: dict[str, list[float]] = {"a": [], "b": []}
             rays = 0
             for _ in range(repeat):

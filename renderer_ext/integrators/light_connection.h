@@ -5,13 +5,13 @@
 //
 // Metrics with a lens proxy (Kerr: the Schwarzschild lens map of the same mass, spacetime/lens_map.h) get
 // image proxies instead where that map's connection is not their proposal (light_connection "images", lights
-// of other shapes, vertices near the hole: lens_connection.h), one per lensed image of a quad or disk light: the image of the light's centre in
-// the proxy map (direct, and round the far side of the hole), refined by a Newton step on a pilot
-// geodesic with the proxy map's Jacobian, and around it the light's quad (a disk's bounding square) mapped
-// into directions by that Jacobian's inverse, enlarged by kImageMargin, sampled uniformly on the tangent
-// plane of the image direction. Which image, by its solid angle times cos theta. The pdf of any direction
-// is the mixture's, so the estimator stays unbiased whatever Newton finds or misses; the centre's
-// direction is moved towards Kerr's by the pilot, the shape is the proxy map's.
+// of other shapes, vertices near the hole: lens_connection.h), one per lensed image of a quad or disk light:
+// the image of the light's centre in the proxy map (direct, and round the far side of the hole), refined by a
+// Newton step on a pilot geodesic with the proxy map's Jacobian, and around it the light's quad (a disk's
+// bounding square) mapped into directions by that Jacobian's inverse, enlarged by kImageMargin, sampled
+// uniformly on the tangent plane of the image direction. Which image, by its solid angle times cos theta.
+// The pdf of any direction is the mixture's, so the estimator stays unbiased whatever Newton finds or
+// misses; the centre's direction is moved towards Kerr's by the pilot, the shape is the proxy map's.
 #pragma once
 
 #include <algorithm>
