@@ -114,6 +114,7 @@ def main(argv=None) -> list[dict]:
     p.add_argument("--quick", action="store_true", help="tiny frames (seconds; for tests)")
     p.add_argument("--out", type=Path, default=RESULTS)
     p.add_argument("--ref-spp", type=int, default=None, help="samples per pixel of the converged frames")
+    p.add_argument("--rounds", type=int, default=None, help="alternating timings of each renderer (default 3)")
     args = p.parse_args(argv)
     try:
         import drjit as dr
@@ -126,6 +127,8 @@ def main(argv=None) -> list[dict]:
            {"size": SIZE, "spp": 32, "rounds": 3, "ref_spp": 1024})  # fmt: skip
     if args.ref_spp:
         cfg["ref_spp"] = args.ref_spp
+    if args.rounds:
+        cfg["rounds"] = args.rounds
     print(machine_line(threads=1))
     rows = speed(cfg, mi, dr) + radiance(cfg, mi, dr)
     s = rows[0]

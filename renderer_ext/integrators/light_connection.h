@@ -48,11 +48,16 @@ struct ImageProxy {
 
 struct Aim {
   V3 pos;                   // the vertex
+  int sheet = 1;            // its sheet
+  LinearMap to_local;       // its local frame
   V3 from[kAimedLights];    // where light i's proxy is seen from (lights past kAimedLights: pos)
   double scale[kAimedLights];  // and its size relative to the light's
   int images[kImageLights] = {0, 0, 0, 0};  // light i's image proxies (0: its aimed proxy)
   ImageProxy image[kImageLights][kImagesPerLight];
   double image_total[kImageLights];
+  // Light i's aimed proxy (i < kAimedLights, on the vertex's sheet, no image proxies), computed once from
+  // from[i], scale[i] and to_local when the aim is done: the light sample and both strategies' pdfs read it.
+  LightProxy proxy[kAimedLights];
   V3 at(size_t i) const { return i < size_t(kAimedLights) ? from[i] : pos; }
   double scale_of(size_t i) const { return i < size_t(kAimedLights) ? scale[i] : 1.0; }
   int images_of(size_t i) const { return i < size_t(kImageLights) ? images[i] : 0; }
@@ -82,23 +87,24 @@ class LightConnection {
       (void)st;
       (void)frames;
       (void)sched;
-      a = unaimed(e);
+      unaimed(e, a);
+      proxies(a);
       return std::suspend_never{};
     } else {
       return pilots(e, n_user, wo, st, frames, sched, a);
     }
   }
 
-  // Mixture pdf of the light strategy for local direction w at a vertex on `sheet`.
-  double lights_pdf(const Aim& a, int sheet, const LinearMap& L, V3 w) const {
+  // Mixture pdf of the light strategy for local direction w at the vertex a was aimed from.
+  double lights_pdf(const Aim& a, V3 w) const {
     double s = 0.0;
     for (size_t i = 0; i < sc_.lights.size(); ++i) {
       const int l = sc_.lights[i];
       if (a.images_of(i) > 0) {
         for (int k = 0; k < a.images[i]; ++k)
           s += a.image[i][k].weight / a.image_total[i] * image_pdf(a.image[i][k], w);
-      } else if (sc_.prims[l].sheet == sheet) {
-        s += light_pdf(sc_, l, a.at(i), L, w, a.scale_of(i));
+      } else if (sc_.prims[l].sheet == a.sheet) {
+        s += light_pdf(i < size_t(kAimedLights) ? a.proxy[i] : light_proxy(sc_, l, a.pos, a.to_local), w);
       }
     }
     return s / double(sc_.lights.size());
@@ -125,8 +131,9 @@ class LightConnection {
       return true;
     }
     double pdf;
-    return sc_.prims[lp].sheet == e.sheet &&
-           sample_light(sc_, lp, a.at(size_t(li)), e.to_local, u1, u2, w, pdf, a.scale_of(size_t(li)));
+    if (sc_.prims[lp].sheet != e.sheet) return false;
+    return li < kAimedLights ? sample_light(a.proxy[li], u1, u2, w, pdf)
+                             : sample_light(light_proxy(sc_, lp, a.pos, a.to_local), u1, u2, w, pdf);
   }
 
  private:
@@ -155,22 +162,36 @@ class LightConnection {
     }
   }
 
-  static Aim unaimed(const SegmentEnd& e) {
-    Aim a;
+  static void unaimed(const SegmentEnd& e, Aim& a) {
     a.pos = e.pos;
+    a.sheet = e.sheet;
+    a.to_local = e.to_local;
     for (int i = 0; i < kAimedLights; ++i) {
       a.from[i] = e.pos;
       a.scale[i] = 1.0;
     }
-    return a;
+    for (int i = 0; i < kImageLights; ++i) a.images[i] = 0;
+  }
+
+  // The aimed proxies of the first kAimedLights lights, once the aim is done.
+  void proxies(Aim& a) const {
+    const size_t n = std::min(size_t(kAimedLights), sc_.lights.size());
+    for (size_t i = 0; i < n; ++i) {
+      const int l = sc_.lights[i];
+      if (a.images_of(i) == 0 && sc_.prims[l].sheet == a.sheet)
+        a.proxy[i] = light_proxy(sc_, l, a.from[i], a.to_local, a.scale[i]);
+    }
   }
 
   // Pilot geodesics from vertex e towards each light, each traced from just off the surface to the
   // light's plane (c, nrm); the proxy is shifted by where they miss.
   Task<void> pilots(const SegmentEnd& e, V3 n_user, V3 wo, RenderStats& st, StartFrames& frames, Scheduler* sched,
                     Aim& a) const {
-    a = unaimed(e);
-    if (!o_.aim_lights) co_return;
+    unaimed(e, a);
+    if (!o_.aim_lights) {
+      proxies(a);
+      co_return;
+    }
     const int n = std::min<int>(kAimedLights, int(sc_.lights.size()));
     for (int i = 0; i < n; ++i) {
       const int p = sc_.lights[i];
@@ -201,6 +222,7 @@ class LightConnection {
       const double size = light_size(p);
       if (o_.light_margin && size > 0.0) a.scale[i] = 1.0 + std::min(0.5, length(target - c) / size);
     }
+    proxies(a);
   }
 
   // A pilot geodesic from just off vertex e along local direction w to the plane (c, nrm); ok and where it

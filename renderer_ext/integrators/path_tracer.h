@@ -78,6 +78,11 @@ class PathTracer {
     LensVertex lens_v;
     V3 lens_w;
     double lens_pb = 0.0;
+    // So is the aimed connection's (the mixture pdf of the last vertex's proxies, kept in the path's Aim),
+    // which only emission needs: most BSDF-sampled directions never meet an emitter.
+    bool aimed_prev = false;
+    V3 aimed_w;
+    double aimed_pb = 0.0;
     bool error = false;
     double max_drift = 0.0;
     int64_t steps = 0;
@@ -162,7 +167,7 @@ class PathTracer {
     if (!lights_.sample(aimed, e, li, u1, u2, u3, wl)) co_return;
     double pb;
     const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
-    const double pl = lights_.lights_pdf(aimed, e.sheet, e.to_local, wl);
+    const double pl = lights_.lights_pdf(aimed, wl);
     if (!(max_component(f) > 0.0 && pl > 0.0)) co_return;
     Track* light_track = ps.open();
     SegmentEnd le;
@@ -203,6 +208,7 @@ class PathTracer {
     bool features_done = film.albedo_sum.empty() && film.albedo_normal_sum.empty();
     V3 L_sharp{0, 0, 0};  // ps.L up to and at the first non-specular hit (the emission AOV)
     bool sharp = !film.emission_sum.empty();
+    Aim aimed;  // the light proxies of the path's last diffuse vertex (aimed connection)
 
     for (int bounce = 0; bounce < o_.max_depth; ++bounce) {
       Track* track = ps.open();
@@ -221,6 +227,9 @@ class PathTracer {
       if (ps.lens_prev) {
         const double pl = e.status == kHit ? lens_.pdf(ps.lens_v, ps.lens_w, e.prim, e.pos) : 0.0;
         ps.mis = ps.lens_pb / (ps.lens_pb + pl);
+      } else if (ps.aimed_prev && max_component(Le) > 0.0) {
+        const double pl = lights_.lights_pdf(aimed, ps.aimed_w);
+        ps.mis = ps.aimed_pb / (ps.aimed_pb + pl);
       }
       ps.L += ps.beta * Le * ps.mis;
       if (sharp) L_sharp = ps.L;
@@ -239,7 +248,6 @@ class PathTracer {
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
       const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
       const bool lens = nee && o_.light_connection != kAimedConnection && lens_.applies(e);
-      Aim aimed;
       if (nee) co_await sample_light(e, mat, albedo, n, wo, bounce, lens, rng, ps, aimed, st, frames, sched);
       const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
       const BsdfSample bs = bsdf_sample(mat, albedo, n, wo, u1, u2, u3);
@@ -247,12 +255,13 @@ class PathTracer {
       ps.beta *= bs.weight;
       ps.mis = 1.0;
       ps.lens_prev = lens;
+      ps.aimed_prev = nee && !lens;
       if (lens) {
         ps.lens_w = bs.wi;
         ps.lens_pb = bs.pdf;
       } else if (nee) {
-        const double pl = lights_.lights_pdf(aimed, e.sheet, e.to_local, bs.wi);
-        ps.mis = bs.pdf / (bs.pdf + pl);
+        ps.aimed_w = bs.wi;
+        ps.aimed_pb = bs.pdf;
       }
       if (bounce + 1 >= o_.rr_depth) {
         // Survival probability = throughput (pbrt's rule): lossless paths are never cut.

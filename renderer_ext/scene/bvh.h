@@ -34,6 +34,15 @@ namespace bvh_simd {
 typedef double V4 __attribute__((vector_size(32)));
 typedef long long M4 __attribute__((vector_size(32)));
 
+// The bits of block blk's boxes that `fail` (all ones) leaves out, below `count`, without a branch per box (the
+// branches mispredicted: a third of the leaf's time).
+inline uint64_t block_bits(M4 fail, int32_t blk, int32_t count) {
+  const uint64_t failed = uint64_t(fail[0] & 1) | uint64_t(fail[1] & 2) | uint64_t(fail[2] & 4) | uint64_t(fail[3] & 8);
+  const int32_t left = count - 4 * blk;
+  const uint64_t valid = left >= 4 ? 0xF : (uint64_t(1) << left) - 1;
+  return (~failed & valid) << (4 * blk);
+}
+
 WV_LANE_CLONES inline uint64_t segment_mask(const double* soa, int32_t count, const double* o, const double* inv,
                                             double tmin, double tmax) {
   uint64_t mask = 0;
@@ -51,9 +60,7 @@ WV_LANE_CLONES inline uint64_t segment_mask(const double* soa, int32_t count, co
       hi = far < hi ? far : hi;
     }
     // tmin only grows and tmax only shrinks over the axes, so one test at the end is slab()'s per-axis exit
-    const M4 miss = lo > hi * (1.0 + 4e-16) + 1e-300;
-    for (int i = 0; i < 4; ++i)
-      if (!miss[i] && 4 * blk + i < count) mask |= uint64_t(1) << (4 * blk + i);
+    mask |= block_bits(lo > hi * (1.0 + 4e-16) + 1e-300, blk, count);
   }
   return mask;
 }
@@ -69,8 +76,7 @@ WV_LANE_CLONES inline uint64_t box_mask(const double* soa, int32_t count, const 
       __builtin_memcpy(&ph, s + 12 + 4 * a, sizeof ph);
       apart |= (pl > bhi[a]) | (blo[a] > ph);
     }
-    for (int i = 0; i < 4; ++i)
-      if (!apart[i] && 4 * blk + i < count) mask |= uint64_t(1) << (4 * blk + i);
+    mask |= block_bits(apart, blk, count);
   }
   return mask;
 }

@@ -109,12 +109,31 @@ inline PlanarProxy planar_proxy(const Scene& sc, const Prim& pr, V3 x, const Lin
 
 }  // namespace detail
 
-// Samples a local direction towards light prim p from user-frame point x. Returns false on failure.
-inline bool sample_light(const Scene& sc, int p, V3 x, const LinearMap& L, double u1, double u2, V3& w,
-                         double& pdf, double scale = 1.0) {
+// Light prim p's proxy as seen from user-frame point x through the linear map L (scaled by `scale` about its
+// centre where it is a quad or disk): what sampling a direction and its pdf both read, so a vertex computes
+// it once for its light sample and the pdfs of both strategies' directions.
+struct LightProxy {
+  bool sphere = false;
+  detail::ConeProxy cone;      // sphere
+  detail::PlanarProxy planar;  // quad or disk
+};
+
+inline LightProxy light_proxy(const Scene& sc, int p, V3 x, const LinearMap& L, double scale = 1.0) {
   const Prim& pr = sc.prims[p];
-  if (pr.kind == PrimKind::kSphere) {
-    const detail::ConeProxy c = detail::cone_proxy(sc.spheres[pr.index], x, L);
+  LightProxy q;
+  q.sphere = pr.kind == PrimKind::kSphere;
+  if (q.sphere) {
+    q.cone = detail::cone_proxy(sc.spheres[pr.index], x, L);
+  } else {
+    q.planar = detail::planar_proxy(sc, pr, x, L, scale);
+  }
+  return q;
+}
+
+// Samples a local direction from a light's proxy. Returns false on failure.
+inline bool sample_light(const LightProxy& lq, double u1, double u2, V3& w, double& pdf) {
+  if (lq.sphere) {
+    const detail::ConeProxy& c = lq.cone;
     if (!c.valid) return false;
     const double om = u1 * c.omc, cos_t = 1.0 - om, sin_t = std::sqrt(std::max(0.0, om * (2.0 - om)));
     const double phi = kTwoPi * u2;
@@ -124,7 +143,7 @@ inline bool sample_light(const Scene& sc, int p, V3 x, const LinearMap& L, doubl
     pdf = c.pdf();
     return true;
   }
-  const detail::PlanarProxy q = detail::planar_proxy(sc, pr, x, L, scale);
+  const detail::PlanarProxy& q = lq.planar;
   double s = u1, r = u2;  // quad: uniform in [0, 1]^2; disk: uniform by area in the annulus
   if (q.disk) {
     const double rho = std::sqrt(q.r_in * q.r_in + u1 * (q.r_out * q.r_out - q.r_in * q.r_in));
@@ -202,15 +221,14 @@ inline bool light_point_at(const Scene& sc, int p, V3 from, V3 x, LightPoint& lp
   return lp.area > 0.0 && std::isfinite(lp.area);
 }
 
-// Solid-angle pdf with which sample_light(p, x, L) produces local direction w.
-inline double light_pdf(const Scene& sc, int p, V3 x, const LinearMap& L, V3 w, double scale = 1.0) {
-  const Prim& pr = sc.prims[p];
-  if (pr.kind == PrimKind::kSphere) {
-    const detail::ConeProxy c = detail::cone_proxy(sc.spheres[pr.index], x, L);
+// Solid-angle pdf with which sample_light(lq, ...) produces local direction w.
+inline double light_pdf(const LightProxy& lq, V3 w) {
+  if (lq.sphere) {
+    const detail::ConeProxy& c = lq.cone;
     if (!c.valid || 1.0 - dot(w, c.axis) > c.omc) return 0.0;
     return c.pdf();
   }
-  const detail::PlanarProxy q = detail::planar_proxy(sc, pr, x, L, scale);
+  const detail::PlanarProxy& q = lq.planar;
   double s, r, tau;
   if (!detail::plane_solve(q.o, q.la, q.lb, w, s, r, tau) || tau <= 0.0 || !q.contains(s, r)) return 0.0;
   return q.pdf(w, tau * tau);
