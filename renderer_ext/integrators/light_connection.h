@@ -179,7 +179,7 @@ class LightConnection {
     for (size_t i = 0; i < n; ++i) {
       const int l = sc_.lights[i];
       if (a.images_of(i) == 0 && sc_.prims[l].sheet == a.sheet)
-        a.proxy[i] = light_proxy(sc_, l, a.from[i], a.to_local, a.scale[i]);
+        light_proxy(sc_, l, a.from[i], a.to_local, a.scale[i], a.proxy[i]);
     }
   }
 

@@ -78,11 +78,10 @@ class SegmentTracer {
 
  private:
   void flat_segment(V3 x, int sheet, V3 d, int skip, Track* track, RenderStats& st, SegmentEnd& e) const {
-    const double skip_dist = 1e-4 * (1.0 + length(x));
     ++st.segments;
     SegmentHit hit;
     e.sheet = sheet;
-    if (sc_.closest_hit(x, d, 0.0, 1e300, sheet, skip, skip_dist, hit)) {
+    if (sc_.closest_hit(x, d, 0.0, 1e300, sheet, skip, [x] { return 1e-4 * (1.0 + length(x)); }, hit)) {
       e.status = kHit;
       e.prim = hit.prim;
       e.pos = x + d * hit.t;

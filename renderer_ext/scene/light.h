@@ -51,15 +51,13 @@ struct ConeProxy {
   double pdf() const { return 1.0 / (kTwoPi * omc); }
 };
 
-inline ConeProxy cone_proxy(const Sphere& s, V3 x, const LinearMap& L) {
-  ConeProxy c;
+inline void cone_proxy(const Sphere& s, V3 x, const LinearMap& L, ConeProxy& c) {
   const V3 dc = s.center - x;
   const double D2 = dot(dc, dc);
-  if (D2 <= s.radius * s.radius) return c;
-  c.valid = true;
+  c.valid = D2 > s.radius * s.radius;
+  if (!c.valid) return;
   c.axis = normalize(L(dc));
   c.omc = one_minus_cos(s.radius * s.radius / D2);
-  return c;
 }
 
 // A quad or disk light as seen from x in the local frame: its points are o + s la + r lb with (s, r) in
@@ -84,13 +82,15 @@ struct PlanarProxy {
   }
 };
 
-inline PlanarProxy planar_proxy(const Scene& sc, const Prim& pr, V3 x, const LinearMap& L, double scale) {
-  PlanarProxy q;
+// (Filled in place: a vertex's proxies live in its Aim, which is not cleared for each.)
+inline void planar_proxy(const Scene& sc, const Prim& pr, V3 x, const LinearMap& L, double scale, PlanarProxy& q) {
   if (pr.kind == PrimKind::kQuad) {
     const Quad& qd = sc.quads[pr.index];
     q.o = L(qd.corner - (qd.eu + qd.ev) * (0.5 * (scale - 1.0)) - x);  // scaled about its centre
     q.la = L(qd.eu * scale);
     q.lb = L(qd.ev * scale);
+    q.disk = false;
+    q.r_in = q.r_out = 0.0;
   } else {
     const Disk& k = sc.disks[pr.index];
     q.o = L(k.center - x);
@@ -104,7 +104,6 @@ inline PlanarProxy planar_proxy(const Scene& sc, const Prim& pr, V3 x, const Lin
   const double len = length(n);
   q.normal = len > 0.0 ? n / len : V3{0, 0, 0};
   q.area = q.disk ? M_PI * (q.r_out * q.r_out - q.r_in * q.r_in) * len : len;
-  return q;
 }
 
 }  // namespace detail
@@ -118,15 +117,18 @@ struct LightProxy {
   detail::PlanarProxy planar;  // quad or disk
 };
 
-inline LightProxy light_proxy(const Scene& sc, int p, V3 x, const LinearMap& L, double scale = 1.0) {
+inline void light_proxy(const Scene& sc, int p, V3 x, const LinearMap& L, double scale, LightProxy& q) {
   const Prim& pr = sc.prims[p];
-  LightProxy q;
   q.sphere = pr.kind == PrimKind::kSphere;
   if (q.sphere) {
-    q.cone = detail::cone_proxy(sc.spheres[pr.index], x, L);
+    detail::cone_proxy(sc.spheres[pr.index], x, L, q.cone);
   } else {
-    q.planar = detail::planar_proxy(sc, pr, x, L, scale);
+    detail::planar_proxy(sc, pr, x, L, scale, q.planar);
   }
+}
+inline LightProxy light_proxy(const Scene& sc, int p, V3 x, const LinearMap& L) {
+  LightProxy q;
+  light_proxy(sc, p, x, L, 1.0, q);
   return q;
 }
 

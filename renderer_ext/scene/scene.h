@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "scene/bvh.h"
@@ -100,14 +101,21 @@ class Scene {
   }
 
   // Closest hit of the segment o + t d, t in (tmin, tmax), among primitives on `sheet`; `skip` is a
-  // primitive ignored for t * |d| < skip_dist (the surface a ray just left).
-  bool closest_hit(V3 o, V3 d, double tmin, double tmax, int sheet, int skip, double skip_t, SegmentHit& hit) const {
+  // primitive ignored for t < skip_t (the surface a ray just left). skip_t is a number, or a callable that
+  // gives it, called only if the ray meets `skip` (a whole ray's start distance costs a square root).
+  template <class SkipT>
+  bool closest_hit(V3 o, V3 d, double tmin, double tmax, int sheet, int skip, const SkipT& skip_t,
+                   SegmentHit& hit) const {
     return bvh.closest(
         o, d, tmin, tmax,
         [&](int p, V3 oo, V3 dd, double t0, double t1, double& t) {
           if (prims[p].sheet != sheet) return false;
           if (!intersect_prim(p, oo, dd, t0, t1, t)) return false;
-          if (p == skip && t < skip_t) return false;
+          if constexpr (std::is_invocable_v<SkipT>) {
+            if (p == skip && t < skip_t()) return false;
+          } else {
+            if (p == skip && t < skip_t) return false;
+          }
           return true;
         },
         hit);
