@@ -15,6 +15,7 @@
 #include "core/elliptic.h"
 #include "core/sobol.h"
 #include "film/pixel_filter.h"
+#include "integrators/guide_tree.h"
 #include "integrators/lens_connection.h"
 #include "scene/bvh.h"
 #include "scene/material.h"
@@ -116,9 +117,58 @@ nb::dict bvh_candidates(F64In boxes, F64In segs, F64In queries) {
   return out;
 }
 
+// Test hook for path guiding's tree (integrators/guide_tree.h): built from records (positions (N, 3), sheets
+// (N,), local directions (N, 3), values (N,)) over box lo, hi; then, at position `at` on sheet `at_sheet`,
+// its leaf (-1: none), the density at directions `eval` (K, 3) and directions drawn from uniforms u (S, 2)
+// with their densities. Also the tree's leaf and cell counts.
+nb::dict guide_tree(F64In pos, std::vector<int> sheets, F64In dirs, F64In values, std::vector<double> lo,
+                    std::vector<double> hi, int leaf_records, double rho, int max_depth, std::vector<double> at,
+                    int at_sheet, F64In eval, F64In u) {
+  const size_t n = values.shape(0);
+  if (pos.ndim() != 2 || pos.shape(1) != 3 || pos.shape(0) != n || dirs.ndim() != 2 || dirs.shape(1) != 3 ||
+      dirs.shape(0) != n || sheets.size() != n)
+    throw std::invalid_argument("pos and dirs must have shape (N, 3), sheets and values (N,)");
+  if (lo.size() != 3 || hi.size() != 3 || at.size() != 3) throw std::invalid_argument("lo, hi, at need 3 components");
+  if (eval.ndim() != 2 || eval.shape(1) != 3) throw std::invalid_argument("eval must have shape (K, 3)");
+  if (u.ndim() != 2 || u.shape(1) != 2) throw std::invalid_argument("u must have shape (S, 2)");
+  std::vector<wv::GuideRecord> recs(n);
+  for (size_t i = 0; i < n; ++i) {
+    recs[i].pos = wv::V3(pos.data() + 3 * i);
+    recs[i].sheet = sheets[i];
+    recs[i].dir = wv::normalize(wv::V3(dirs.data() + 3 * i));
+    recs[i].value = values.data()[i];
+  }
+  wv::Box box;
+  box.lo = wv::V3(lo.data());
+  box.hi = wv::V3(hi.data());
+  wv::GuideTree tree;
+  tree.build(std::move(recs), box, {leaf_records, rho, max_depth});
+  const int leaf = tree.leaf(wv::V3(at.data()), at_sheet);
+  const size_t k = eval.shape(0), ns = u.shape(0);
+  std::vector<double> pe(k, 0.0), ws(3 * ns, 0.0), ps(ns, 0.0);
+  if (leaf >= 0) {
+    for (size_t i = 0; i < k; ++i) pe[i] = tree.pdf(leaf, wv::normalize(wv::V3(eval.data() + 3 * i)));
+    for (size_t i = 0; i < ns; ++i) {
+      const wv::V3 w = tree.sample(leaf, u.data()[2 * i], u.data()[2 * i + 1], ps[i]);
+      for (int c = 0; c < 3; ++c) ws[3 * i + c] = w[c];
+    }
+  }
+  nb::dict out;
+  out["leaf"] = leaf;
+  out["leaves"] = tree.leaf_count();
+  out["cells"] = tree.cell_count();
+  out["pdf_eval"] = to_numpy(std::move(pe), {k});
+  out["samples"] = to_numpy(std::move(ws), {ns, 3});
+  out["pdf_samples"] = to_numpy(std::move(ps), {ns});
+  return out;
+}
+
 }  // namespace
 
 void bind_testing(nb::module_& m) {
+  m.def("guide_tree", &guide_tree, "pos"_a, "sheets"_a, "dirs"_a, "values"_a, "lo"_a, "hi"_a, "leaf_records"_a,
+        "rho"_a, "max_depth"_a, "at"_a, "at_sheet"_a, "eval"_a, "u"_a,
+        "Path guiding's tree built from records: its leaf at a point, densities and samples there.");
   m.def("bvh_candidates", &bvh_candidates, "boxes"_a, "segs"_a, "queries"_a,
         "BVH test hook: the primitives a segment's traversal and a box query hand on, in visit order.");
   m.def("bsdf", &bsdf, "material"_a, "albedo"_a, "n"_a, "wo"_a, "u"_a, "at"_a,

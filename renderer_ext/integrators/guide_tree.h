@@ -1,0 +1,246 @@
+// Path guiding's learned distribution of incident light, in the spirit of Mueller, Gross and Novak, "Practical
+// Path Guiding" (2017): a binary tree over space, one per sheet, whose leaves each hold a quadtree over the
+// local observer's sky, built from training records (where a path's vertex was, which way its next segment
+// left in the local frame, how much light came back along it). The directions are the local observer's, so
+// the distribution holds every lensed image of every light and bright surface, whatever the metric.
+//
+// The sky maps onto the unit square by the equal-area cylindrical map, s = (1 + cos theta) / 2 (theta from
+// the local z axis), t = phi / 2 pi, so dOmega = 4 pi ds dt; a quadtree cell's density on the square is its
+// share of its leaf's energy over its area. A quadrant is divided where it holds more than `rho` of its
+// leaf's energy (and at least two records), so bright, narrow images get small cells. A space node is divided
+// at the middle of its box's longest side while it holds more than `leaf_records` records.
+//
+// A tree is built once from one training iteration's records, in their given order (the same records give
+// the same tree, bit for bit, however many threads traced them) and does not change while it is sampled.
+// Where a leaf saw no light (or no record fell in it) the guide has nothing to say: leaf() is -1 there.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/vec3.h"
+#include "scene/shapes.h"
+
+namespace wv {
+
+// One training record: a vertex's user-frame position and sheet, the local direction its path left along,
+// and what came back: radiance over the pdf that drew the direction (an estimate of the incident radiance's
+// integral over any cell holding it, >= 0).
+struct GuideRecord {
+  V3 pos;
+  int sheet = 1;
+  V3 dir;
+  double value = 0.0;
+};
+
+// Unit direction (local frame) <-> point of the unit square, equal-area.
+inline void sky_to_square(V3 w, double& s, double& t) {
+  s = std::clamp(0.5 * (1.0 + w.z), 0.0, 1.0);
+  double phi = std::atan2(w.y, w.x) * (0.5 / M_PI);
+  if (phi < 0.0) phi += 1.0;
+  t = std::min(phi, std::nextafter(1.0, 0.0));
+}
+inline V3 square_to_sky(double s, double t) {
+  const double z = 2.0 * s - 1.0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * M_PI * t;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+class GuideTree {
+ public:
+  struct Params {
+    int leaf_records = 4000;  // a space node with more records is divided
+    double rho = 0.01;        // a quadrant with more of its leaf's energy is divided
+    int max_depth = 12;       // quadtree levels below the root (cells down to 4^-12 of the sky)
+  };
+
+  GuideTree() = default;
+
+  // Builds the tree from `records` (reordered in the process) over box `bounds` (positions outside it fall in
+  // its border leaves).
+  void build(std::vector<GuideRecord> records, const Box& bounds, const Params& p) {
+    *this = GuideTree();
+    params_ = p;
+    bounds_ = bounds;
+    for (int k = 0; k < 2; ++k) {
+      auto mid = std::stable_partition(records.begin(), records.end(),
+                                       [k](const GuideRecord& r) { return sheet_index(r.sheet) == k; });
+      std::vector<GuideRecord> mine(records.begin(), mid);
+      records.erase(records.begin(), mid);
+      root_[k] = mine.empty() ? -1 : build_space(mine, 0, mine.size(), bounds, 0);
+    }
+  }
+
+  bool empty() const { return leaves_.empty(); }
+  size_t leaf_count() const { return leaves_.size(); }
+  size_t cell_count() const { return qnodes_.size(); }
+
+  // The leaf holding position pos on `sheet` whose quadtree can be sampled, or -1.
+  int leaf(V3 pos, int sheet) const {
+    int n = root_[sheet_index(sheet)];
+    if (n < 0) return -1;
+    while (snodes_[n].leaf < 0) {
+      const SNode& sn = snodes_[n];
+      n = pos[sn.axis] < sn.split ? sn.child[0] : sn.child[1];
+    }
+    const int l = snodes_[n].leaf;
+    return leaves_[l].root >= 0 ? l : -1;
+  }
+
+  // Solid-angle density of sample() in leaf l for local unit direction w.
+  double pdf(int l, V3 w) const {
+    double s, t;
+    sky_to_square(w, s, t);
+    int n = leaves_[l].root;
+    double density = 1.0;  // on the square
+    for (;;) {
+      const QNode& q = qnodes_[n];
+      const int qx = s >= 0.5, qy = t >= 0.5, k = qx + 2 * qy;
+      const double total = q.sum[0] + q.sum[1] + q.sum[2] + q.sum[3];
+      if (!(q.sum[k] > 0.0)) return 0.0;
+      density *= 4.0 * q.sum[k] / total;
+      s = 2.0 * s - qx;
+      t = 2.0 * t - qy;
+      if (q.child[k] == 0) break;
+      n = q.child[k];
+    }
+    return density / (4.0 * M_PI);
+  }
+
+  // A local unit direction drawn in leaf l from uniforms u1, u2, and its solid-angle density.
+  V3 sample(int l, double u1, double u2, double& pdf) const {
+    int n = leaves_[l].root;
+    double x0 = 0.0, y0 = 0.0, size = 1.0, density = 1.0;
+    for (;;) {
+      const QNode& q = qnodes_[n];
+      const double total = q.sum[0] + q.sum[1] + q.sum[2] + q.sum[3];
+      int k = -1, last = 0;
+      double acc = 0.0, acc_last = 0.0;
+      const double target = u1 * total;
+      for (int i = 0; i < 4 && k < 0; ++i) {
+        if (!(q.sum[i] > 0.0)) continue;
+        if (target < acc + q.sum[i]) k = i;
+        else acc += q.sum[i];
+        last = i;
+        acc_last = acc;
+      }
+      if (k < 0) {  // (rounding past the last quadrant with energy)
+        k = last;
+        acc = acc_last - q.sum[last];
+      }
+      u1 = std::clamp((target - acc) / q.sum[k], 0.0, std::nextafter(1.0, 0.0));
+      density *= 4.0 * q.sum[k] / total;
+      size *= 0.5;
+      x0 += size * (k & 1);
+      y0 += size * (k >> 1);
+      if (q.child[k] == 0) break;
+      n = q.child[k];
+    }
+    pdf = density / (4.0 * M_PI);
+    return square_to_sky(x0 + size * u1, y0 + size * u2);
+  }
+
+ private:
+  struct SNode {
+    int axis = 0;
+    double split = 0.0;
+    int32_t child[2] = {-1, -1};
+    int32_t leaf = -1;  // >= 0: a leaf
+  };
+  struct QNode {
+    double sum[4] = {0, 0, 0, 0};
+    int32_t child[4] = {0, 0, 0, 0};  // 0: the quadrant is a cell (node 0 is a root, never a child)
+  };
+  struct Leaf {
+    int32_t root = -1;  // its quadtree's root node, -1 where it saw no light
+  };
+
+  static int sheet_index(int sheet) { return sheet >= 0 ? 0 : 1; }
+
+  int32_t build_space(std::vector<GuideRecord>& r, size_t b, size_t e, const Box& box, int depth) {
+    const int32_t id = int32_t(snodes_.size());
+    snodes_.emplace_back();
+    const V3 ext = box.hi - box.lo;
+    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    if (e - b <= size_t(params_.leaf_records) || depth >= kMaxSpaceDepth || !(ext[axis] > 0.0)) {
+      snodes_[id].leaf = int32_t(leaves_.size());
+      leaves_.push_back({build_sky(r, b, e)});
+      return id;
+    }
+    const double split = 0.5 * (box.lo[axis] + box.hi[axis]);
+    const size_t m = size_t(std::stable_partition(r.begin() + b, r.begin() + e,
+                                                  [&](const GuideRecord& g) { return g.pos[axis] < split; }) -
+                            r.begin());
+    Box lo = box, hi = box;
+    lo.hi[axis] = split;
+    hi.lo[axis] = split;
+    const int32_t c0 = build_space(r, b, m, lo, depth + 1);
+    const int32_t c1 = build_space(r, m, e, hi, depth + 1);
+    snodes_[id].axis = axis;
+    snodes_[id].split = split;
+    snodes_[id].child[0] = c0;
+    snodes_[id].child[1] = c1;
+    return id;
+  }
+
+  // The quadtree of records [b, e) (their square coordinates), or -1 if they carry no energy.
+  int32_t build_sky(const std::vector<GuideRecord>& r, size_t b, size_t e) {
+    std::vector<Point> pts;
+    pts.reserve(e - b);
+    double total = 0.0;
+    for (size_t i = b; i < e; ++i) {
+      if (!(r[i].value > 0.0) || !std::isfinite(r[i].value)) continue;
+      Point p;
+      sky_to_square(r[i].dir, p.s, p.t);
+      p.v = r[i].value;
+      pts.push_back(p);
+      total += p.v;
+    }
+    if (pts.empty() || !(total > 0.0)) return -1;
+    return build_cell(pts, 0, pts.size(), total, 0);
+  }
+  struct Point {
+    double s, t, v;  // square coordinates relative to the current cell, value
+  };
+  // The node over points [b, e) (coordinates relative to its square, in [0, 1)).
+  int32_t build_cell(std::vector<Point>& p, size_t b, size_t e, double leaf_total, int depth) {
+    const int32_t id = int32_t(qnodes_.size());
+    qnodes_.emplace_back();
+    size_t start[5];
+    start[0] = b;
+    // Order the points by quadrant (stable), counting and summing each.
+    size_t count[4] = {0, 0, 0, 0};
+    double sum[4] = {0, 0, 0, 0};
+    std::vector<Point> tmp(p.begin() + b, p.begin() + e);
+    for (const Point& q : tmp) {
+      const int k = (q.s >= 0.5) + 2 * (q.t >= 0.5);
+      ++count[k];
+      sum[k] += q.v;
+    }
+    for (int k = 0; k < 4; ++k) start[k + 1] = start[k] + count[k];
+    size_t at[4] = {start[0], start[1], start[2], start[3]};
+    for (const Point& q : tmp) {
+      const int qx = q.s >= 0.5, qy = q.t >= 0.5;
+      p[at[qx + 2 * qy]++] = {2.0 * q.s - qx, 2.0 * q.t - qy, q.v};
+    }
+    for (int k = 0; k < 4; ++k) qnodes_[id].sum[k] = sum[k];
+    for (int k = 0; k < 4; ++k) {
+      if (depth + 1 < params_.max_depth && count[k] >= 2 && sum[k] > params_.rho * leaf_total) {
+        const int32_t c = build_cell(p, start[k], start[k + 1], leaf_total, depth + 1);
+        qnodes_[id].child[k] = c;
+      }
+    }
+    return id;
+  }
+
+  static constexpr int kMaxSpaceDepth = 24;
+  Params params_;
+  Box bounds_;
+  int32_t root_[2] = {-1, -1};
+  std::vector<SNode> snodes_;
+  std::vector<QNode> qnodes_;
+  std::vector<Leaf> leaves_;
+};
+
+}  // namespace wv

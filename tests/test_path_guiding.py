@@ -1,0 +1,120 @@
+"""Path guiding's learned distribution (renderer_ext/integrators/guide_tree.h): a tree over space whose leaves
+hold quadtrees over the local sky, built from training records. Its density integrates to one, its samples
+follow it, it puts its mass where the records saw light, and the same records give the same tree."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from warpviz._native import testing
+
+LO, HI = [-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]
+
+
+def _sky(s, t):
+    """The equal-area map of the tree: square point (s, t) -> unit direction."""
+    z = 2.0 * s - 1.0
+    r = np.sqrt(np.maximum(0.0, 1.0 - z * z))
+    return np.stack([r * np.cos(2 * np.pi * t), r * np.sin(2 * np.pi * t), z], axis=-1)
+
+
+def _records(rng, n, *, lobe=(0.3, -0.5, 0.8), share=0.7, spread=0.05):
+    """Records in the unit box: a bright lobe around `lobe` (a lamp's image) over a dim uniform sky."""
+    pos = rng.uniform(-1, 1, (n, 3))
+    d = rng.normal(size=(n, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    bright = rng.uniform(size=n) < share
+    axis = np.asarray(lobe) / np.linalg.norm(lobe)
+    d[bright] = axis + spread * rng.normal(size=(int(bright.sum()), 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    values = np.where(bright, 10.0, 0.1)
+    return pos, d, values, axis
+
+
+def _tree(pos, d, values, *, sheets=None, leaf_records=500, rho=0.01, max_depth=6, at=(0.1, 0.2, 0.3), at_sheet=1,
+          evaluate=None, u=None):
+    sheets = [1] * len(values) if sheets is None else list(sheets)
+    evaluate = np.zeros((0, 3)) if evaluate is None else evaluate
+    u = np.zeros((0, 2)) if u is None else u
+    return testing.guide_tree(pos, sheets, d, values, LO, HI, leaf_records, rho, max_depth, list(at), at_sheet,
+                              evaluate, u)  # fmt: skip
+
+
+def test_density_integrates_to_one():
+    # The density is constant on square cells of side 2^-max_depth at the finest, so the midpoint rule on
+    # that grid integrates it exactly.
+    pos, d, values, _ = _records(np.random.default_rng(1), 20_000)
+    depth = 6
+    g = (np.arange(2**depth) + 0.5) / 2**depth
+    s, t = np.meshgrid(g, g, indexing="ij")
+    dirs = _sky(s.ravel(), t.ravel())
+    out = _tree(pos, d, values, max_depth=depth, evaluate=dirs)
+    assert out["leaf"] >= 0 and out["leaves"] > 1 and out["cells"] > 10
+    integral = out["pdf_eval"].sum() * 4 * np.pi / len(dirs)
+    assert integral == pytest.approx(1.0, abs=1e-12)
+
+
+def test_samples_follow_the_density():
+    rng = np.random.default_rng(2)
+    pos, d, values, axis = _records(rng, 20_000)
+    u = rng.uniform(size=(100_000, 2))
+    depth = 5
+    g = (np.arange(2**depth) + 0.5) / 2**depth
+    s, t = np.meshgrid(g, g, indexing="ij")
+    out = _tree(pos, d, values, max_depth=depth, evaluate=_sky(s.ravel(), t.ravel()), u=u)
+    w, p = out["samples"], out["pdf_samples"]
+    assert np.allclose(np.linalg.norm(w, axis=1), 1.0)
+    # each sample's density is the tree's density in its direction
+    again = _tree(pos, d, values, max_depth=depth, evaluate=w)["pdf_eval"]
+    np.testing.assert_allclose(p, again, rtol=1e-12)
+    # chi-square of the samples' cells on the finest grid against the cells' probabilities
+    ss = np.clip(0.5 * (1 + w[:, 2]), 0, 1 - 1e-16)
+    tt = (np.arctan2(w[:, 1], w[:, 0]) / (2 * np.pi)) % 1.0
+    cells = np.floor(ss * 2**depth).astype(int) * 2**depth + np.floor(tt * 2**depth).astype(int)
+    counts = np.bincount(cells, minlength=4**depth)
+    expected = out["pdf_eval"] * 4 * np.pi / 4**depth * len(w)
+    keep = expected > 5
+    assert counts[~keep].sum() < 0.01 * len(w)
+    chi2 = (((counts - expected) ** 2)[keep] / expected[keep]).sum()
+    dof = int(keep.sum()) - 1
+    assert chi2 < dof + 5 * np.sqrt(2 * dof), (chi2, dof)
+    # the lamp's lobe holds most of the samples, as it holds most of the records' energy
+    assert (w @ axis > np.cos(0.2)).mean() > 0.9
+
+
+def test_mass_where_the_light_was():
+    rng = np.random.default_rng(3)
+    pos, d, values, axis = _records(rng, 20_000)
+    away = -axis
+    out = _tree(pos, d, values, evaluate=np.stack([axis, away]), max_depth=10)
+    p_lobe, p_away = out["pdf_eval"]
+    assert p_lobe > 50 / (4 * np.pi) and p_lobe > 1000 * p_away
+    # records only in the lower half of the box: the upper half's leaves saw nothing
+    low = pos[:, 2] < 0
+    high_leaf = _tree(pos[low], d[low], values[low], at=(0.0, 0.0, 0.9))["leaf"]
+    low_leaf = _tree(pos[low], d[low], values[low], at=(0.0, 0.0, -0.9))["leaf"]
+    assert high_leaf == -1 and low_leaf >= 0
+    # and one sheet's records say nothing about the other sheet
+    assert _tree(pos, d, values, at_sheet=-1)["leaf"] == -1
+
+
+def test_same_records_same_tree():
+    rng = np.random.default_rng(4)
+    pos, d, values, _ = _records(rng, 5_000)
+    u = rng.uniform(size=(1000, 2))
+    a = _tree(pos, d, values, u=u, evaluate=d[:100])
+    b = _tree(pos, d, values, u=u, evaluate=d[:100])
+    assert a["cells"] == b["cells"] and a["leaves"] == b["leaves"]
+    np.testing.assert_array_equal(a["samples"], b["samples"])
+    np.testing.assert_array_equal(a["pdf_eval"], b["pdf_eval"])
+
+
+def test_zero_and_invalid_values_are_ignored():
+    rng = np.random.default_rng(5)
+    pos, d, values, _ = _records(rng, 2_000)
+    assert _tree(pos, d, np.zeros_like(values))["leaf"] == -1
+    bad = values.copy()
+    bad[::2] = np.nan
+    out = _tree(pos, d, bad, evaluate=d[:10])
+    assert out["leaf"] >= 0 and np.isfinite(out["pdf_eval"]).all()
