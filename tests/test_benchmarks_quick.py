@@ -228,6 +228,15 @@ def test_edge_samples_benchmark_quick_mode(tmp_path):
     assert all(r["rel_mse"] > 0 and r["cpu_s"] > 0 for r in rows)
 
 
+def test_path_guiding_benchmark_quick_mode(tmp_path):
+    import bench_path_guiding
+
+    rows = bench_path_guiding.main(["--quick", "--rooms", "mitsuba", "--out", str(tmp_path)])
+    assert [r["guide_training"] for r in rows] == [0, 2] == [int(r["guide_training"]) for r in
+                                                          read_csv(tmp_path / "path_guiding.csv")]
+    assert rows[0]["mse_over_off"] == 1.0 and all(r["rel_mse_mean"] > 0 and r["seconds_mean"] > 0 for r in rows)
+
+
 @pytest.mark.skipif(importlib.util.find_spec("pyoidn") is None,
                     reason="pyoidn (Intel Open Image Denoise) is not installed: pip install 'warpviz[denoise]'")
 def test_time_to_clean_benchmark_quick_mode_builds_its_reference_in_pieces(tmp_path):

@@ -118,3 +118,80 @@ def test_zero_and_invalid_values_are_ignored():
     bad[::2] = np.nan
     out = _tree(pos, d, bad, evaluate=d[:10])
     assert out["leaf"] >= 0 and np.isfinite(out["pdf_eval"]).all()
+
+
+# --- guided renders ------------------------------------------------------------------------------------------
+
+import warpviz as wv  # noqa: E402
+from native_scenes import metric, room  # noqa: E402
+from test_lens_connection import _wormhole_room  # noqa: E402
+from test_render import _image_means, assert_same_mean  # noqa: E402
+
+
+@pytest.mark.parametrize("scene", [
+    pytest.param(lambda: room(metric("minkowski"), size=(12, 9), light=3.0), id="flat"),
+    pytest.param(lambda: room(metric("schwarzschild", 1.0), size=(12, 9), light=3.0), id="schwarzschild"),
+    pytest.param(lambda: room(metric("kerr", 1.0, 0.9), size=(12, 9), light=3.0, spheres=False), id="kerr-0.9"),
+    pytest.param(lambda: _wormhole_room(1), id="ellis"),
+    pytest.param(lambda: _wormhole_room(-1), id="ellis-light-on-the-other-sheet"),
+])  # fmt: skip
+def test_guided_renders_keep_the_mean_of_unguided_ones(scene):
+    sc = scene()
+    one = wv.render(sc, spp=2, seed=0, max_depth=3, guide_training=4)
+    assert one.stats["guide_segments"] > 0  # it trained
+    assert not np.array_equal(one.rgb, wv.render(sc, spp=2, seed=0, max_depth=3).rgb)  # and guided something
+    guided = _image_means(sc, range(8), spp=8, max_depth=3, guide_training=4)
+    plain = _image_means(sc, range(8, 16), spp=8, max_depth=3)
+    assert guided.mean() > 0
+    assert_same_mean(guided, plain, slack=2e-3 * plain.mean())
+
+
+def test_guided_renders_are_the_same_on_any_number_of_threads_and_resumed():
+    sc = room(metric("schwarzschild", 1.0), size=(12, 9), light=3.0)
+    a = wv.render(sc, spp=4, seed=2, threads=1, guide_training=8)
+    b = wv.render(sc, spp=4, seed=2, threads=2, guide_training=8)
+    np.testing.assert_array_equal(a.rgb, b.rgb)
+    half = wv.render(sc, spp=2, seed=2, threads=2, guide_training=8)
+    resumed = wv.render(sc, spp=4, seed=2, threads=2, guide_training=8, resume=half)  # (trains the same tree again)
+    np.testing.assert_allclose(resumed.rgb, a.rgb, rtol=1e-6, atol=1e-7)  # (as any resume: float32 sums)
+    with pytest.raises(ValueError, match="guide_training"):
+        wv.render(sc, spp=4, seed=2, guide_training=4, resume=half)  # trained otherwise: not the same render
+
+
+def test_guiding_off_is_the_render_before_bit_for_bit():
+    sc = room(metric("schwarzschild", 1.0), size=(12, 9), light=3.0)
+    a = wv.render(sc, spp=2, seed=5)
+    b = wv.render(sc, spp=2, seed=5, guide_training=0)
+    np.testing.assert_array_equal(a.rgb, b.rgb)
+    assert a.stats["guide_segments"] == 0
+
+
+def test_a_bad_guide_or_training_option_is_refused_naming_it(monkeypatch):
+    import importlib
+
+    from warpviz.options import DEFAULT_OPTIONS
+
+    rr = importlib.import_module("warpviz.render.render")
+
+    sc = room(metric("schwarzschild", 1.0), size=(6, 4), light=3.0)
+    assert DEFAULT_OPTIONS["guide_training"] == 0
+    with pytest.raises(ValueError, match="guide_training"):
+        wv.render(sc, spp=1, guide_training=-1)
+    with pytest.raises(ValueError, match="guide_training"):
+        wv.render(sc, spp=1, guide_training=1000)
+    # the tree a render trains and hands to its ranges, and what the core says of broken ones
+    calls = []
+    real = rr.core.render
+    monkeypatch.setattr(rr.core, "render", lambda native, options: calls.append((native, options)) or real(native, options))
+    wv.render(sc, spp=1, guide_training=2)
+    native, options = calls[-1]
+    good = options["guide"]
+    assert good is not None and good["roots"].shape == (12,) and good["sky_sum"].shape[1] == 4
+    for key, bad in (("sky_child", lambda a: np.full_like(a, 10**6)), ("sky_sum", lambda a: -a),
+                     ("space_index", lambda a: np.zeros_like(a) - 7), ("roots", lambda a: a[:2]),
+                     ("leaf_root", lambda a: a + 10**6)):  # fmt: skip
+        broken = dict(good, **{key: np.ascontiguousarray(bad(good[key]))})
+        with pytest.raises(ValueError, match="render option 'guide'"):
+            real(native, dict(options, guide=broken))
+    with pytest.raises(ValueError, match="render option 'guide'"):
+        real(native, dict(options, guide={"roots": good["roots"]}))

@@ -147,6 +147,12 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  "from its features; found by the same probe rays as the edges, so the image stays unbiased); "
                  "1 turns it off.", lo=1, hi=MAX_EDGE_SAMPLES, flag="--detail-samples",
                  derived="1, or 8 in a denoised render (a resumed render: its image's)"),  # fmt: skip
+    RenderOption("guide_training", "int", 0, "Path guiding: before the first sample, training iterations of 1, "
+                 "2, 4, ... up to this many samples per point of a grid over the image learn from which directions "
+                 "of the local sky light arrives indirectly (off other surfaces, through mirrors and glass) at each "
+                 "part of the scene, and half of every diffuse bounce's directions are then drawn from what the "
+                 "last iteration learnt (still unbiased); 0 turns it off.", lo=0, hi=256,
+                 flag="--guide-training"),  # fmt: skip
     RenderOption("filter", "choice", "box", "Pixel reconstruction filter, by importance sampling of each "
                  "camera sample's offset.", choices=tuple(FILTER_RADII)),  # fmt: skip
     RenderOption("filter_radius", "real", None, "Half-width of the filter's support in pixels.", lo=0.0,

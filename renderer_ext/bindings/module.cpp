@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -23,6 +24,7 @@
 #include "core/simd.h"
 #include "engine/plugin.h"
 #include "engine/registry.h"
+#include "integrators/guide_tree.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -246,6 +248,48 @@ T option(const nb::dict& o, const char* key) {
   return v;
 }
 
+// Path guiding's tree (integrators/guide_tree.h) as the dict of arrays a render returns as "guide", and back:
+// the later ranges of the render (passes, tiles, a resumed range) are handed it instead of training again.
+nb::dict guide_to_dict(const wv::GuideTree& g) {
+  wv::GuideTree::Arrays a = g.arrays();
+  const size_t ns = a.space_split.size(), nq = a.sky_sum.size() / 4, nl = a.leaf_root.size(), nr = a.roots.size();
+  nb::dict d;
+  d["space_index"] = to_numpy(std::move(a.space_index), {ns, 4});
+  d["space_split"] = to_numpy(std::move(a.space_split), {ns});
+  d["sky_sum"] = to_numpy(std::move(a.sky_sum), {nq, 4});
+  d["sky_child"] = to_numpy(std::move(a.sky_child), {nq, 4});
+  d["leaf_root"] = to_numpy(std::move(a.leaf_root), {nl});
+  d["roots"] = to_numpy(std::move(a.roots), {nr});
+  return d;
+}
+
+std::shared_ptr<const wv::GuideTree> guide_from(nb::handle h) {
+  auto bad = [](const std::string& why) { return std::invalid_argument("render option 'guide': " + why); };
+  nb::dict d;
+  if (!nb::try_cast(h, d)) throw bad("must be the dict a render returned as 'guide'");
+  auto i32 = [&](const char* key) {
+    I32In v;
+    if (!d.contains(key) || !nb::try_cast(d[key], v)) throw bad(std::string("'") + key + "' must be an int32 array");
+    return std::vector<int32_t>(v.data(), v.data() + v.size());
+  };
+  auto f64 = [&](const char* key) {
+    F64In v;
+    if (!d.contains(key) || !nb::try_cast(d[key], v)) throw bad(std::string("'") + key + "' must be a float64 array");
+    return std::vector<double>(v.data(), v.data() + v.size());
+  };
+  wv::GuideTree::Arrays a;
+  a.space_index = i32("space_index");
+  a.space_split = f64("space_split");
+  a.sky_sum = f64("sky_sum");
+  a.sky_child = i32("sky_child");
+  a.leaf_root = i32("leaf_root");
+  a.roots = i32("roots");
+  auto g = std::make_shared<wv::GuideTree>();
+  const std::string why = g->load(a);
+  if (!why.empty()) throw bad(why);
+  return g;
+}
+
 nb::dict render(nb::dict scene, nb::dict options) {
   std::string metric;
   std::vector<double> params;
@@ -308,6 +352,8 @@ nb::dict render(nb::dict scene, nb::dict options) {
     o.classes_given = true;
     o.classes.assign(el.data(), el.data() + el.size());
   }
+  o.guide_training = option<int>(options, "guide_training");
+  if (options.contains("guide") && !options["guide"].is_none()) o.guide = guide_from(options["guide"]);
   o.batch = option<bool>(options, "batch");
   o.threads = option<int>(options, "threads");
   if (options.contains("crop") && !options["crop"].is_none()) {  // None: the whole image
@@ -370,12 +416,14 @@ nb::dict render(nb::dict scene, nb::dict options) {
   const size_t nclasses = r.pixel_classes.size();
   out["pixel_classes"] = to_numpy(std::move(r.pixel_classes), {nclasses});
   out["completed"] = r.completed && !interrupted;
+  if (r.guide && !r.guide->empty()) out["guide"] = guide_to_dict(*r.guide);
   nb::dict counts;
   for (int k = 0; k < wv::kNumStatuses; ++k) counts[wv::kStatusNames[k]] = r.status_counts[k];
   stats["segments_by_status"] = counts;
   stats["segments"] = r.segments;
   stats["edge_pixels"] = r.edge_pixels;
   stats["detail_pixels"] = r.detail_pixels;
+  stats["guide_segments"] = r.guide_segments;
   stats["steps"] = r.total_steps;
   stats["seconds"] = seconds;
   stats["threads"] = wv::resolve_threads(o.threads);

@@ -135,6 +135,7 @@ nb::dict guide_tree(F64In pos, std::vector<int> sheets, F64In dirs, F64In values
   for (size_t i = 0; i < n; ++i) {
     recs[i].pos = wv::V3(pos.data() + 3 * i);
     recs[i].sheet = sheets[i];
+    recs[i].normal = wv::V3(0.0, 0.0, 1.0);
     recs[i].dir = wv::normalize(wv::V3(dirs.data() + 3 * i));
     recs[i].value = values.data()[i];
   }
@@ -143,7 +144,7 @@ nb::dict guide_tree(F64In pos, std::vector<int> sheets, F64In dirs, F64In values
   box.hi = wv::V3(hi.data());
   wv::GuideTree tree;
   tree.build(std::move(recs), box, {leaf_records, rho, max_depth});
-  const int leaf = tree.leaf(wv::V3(at.data()), at_sheet);
+  const int leaf = tree.leaf(wv::V3(at.data()), at_sheet, wv::V3(0.0, 0.0, 1.0));
   const size_t k = eval.shape(0), ns = u.shape(0);
   std::vector<double> pe(k, 0.0), ws(3 * ns, 0.0), ps(ns, 0.0);
   if (leaf >= 0) {

@@ -10,6 +10,8 @@
 // leaf's energy (and at least two records), so bright, narrow images get small cells. A space node is divided
 // at the middle of its box's longest side while it holds more than `leaf_records` records.
 //
+// Each sheet, and each of six orientations of the surface, has a tree of its own.
+//
 // A tree is built once from one training iteration's records, in their given order (the same records give
 // the same tree, bit for bit, however many threads traced them) and does not change while it is sampled.
 // Where a leaf saw no light (or no record fell in it) the guide has nothing to say: leaf() is -1 there.
@@ -18,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/vec3.h"
@@ -31,6 +34,7 @@ namespace wv {
 struct GuideRecord {
   V3 pos;
   int sheet = 1;
+  V3 normal;  // the surface's unit normal (user frame)
   V3 dir;
   double value = 0.0;
 };
@@ -63,22 +67,104 @@ class GuideTree {
     *this = GuideTree();
     params_ = p;
     bounds_ = bounds;
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < kRoots; ++k) {
       auto mid = std::stable_partition(records.begin(), records.end(),
-                                       [k](const GuideRecord& r) { return sheet_index(r.sheet) == k; });
+                                       [k](const GuideRecord& r) { return root_index(r.sheet, r.normal) == k; });
       std::vector<GuideRecord> mine(records.begin(), mid);
       records.erase(records.begin(), mid);
       root_[k] = mine.empty() ? -1 : build_space(mine, 0, mine.size(), bounds, 0);
     }
   }
 
+  // The tree as flat arrays (a render's first range trains it; the later ranges, tiles and resumed ranges of
+  // the same render are handed it back, bindings/module.cpp): per space node axis, children and leaf
+  // (space_index, 4 each) and split; per quadtree node its four sums and children; per leaf its quadtree's
+  // root; the two sheets' roots.
+  struct Arrays {
+    std::vector<int32_t> space_index;  // (N, 4): axis, child 0, child 1, leaf
+    std::vector<double> space_split;   // (N,)
+    std::vector<double> sky_sum;       // (Q, 4)
+    std::vector<int32_t> sky_child;    // (Q, 4)
+    std::vector<int32_t> leaf_root;    // (L,)
+    std::vector<int32_t> roots;        // (2,)
+  };
+  Arrays arrays() const {
+    Arrays a;
+    for (const SNode& n : snodes_) {
+      a.space_index.insert(a.space_index.end(), {n.axis, n.child[0], n.child[1], n.leaf});
+      a.space_split.push_back(n.split);
+    }
+    for (const QNode& q : qnodes_) {
+      a.sky_sum.insert(a.sky_sum.end(), q.sum, q.sum + 4);
+      a.sky_child.insert(a.sky_child.end(), q.child, q.child + 4);
+    }
+    for (const Leaf& l : leaves_) a.leaf_root.push_back(l.root);
+    a.roots.assign(root_, root_ + kRoots);
+    return a;
+  }
+  // The tree from arrays(): an empty string, or what is wrong with them (nothing is kept then). Every index
+  // must point forward (children after their parent, as build() lays them out), so no walk can loop or leave
+  // the arrays, and every sum must be finite and >= 0 with energy wherever a walk can go.
+  std::string load(const Arrays& a) {
+    *this = GuideTree();
+    const size_t ns = a.space_split.size(), nq = a.sky_sum.size() / 4, nl = a.leaf_root.size();
+    if (a.space_index.size() != 4 * ns || a.sky_sum.size() != 4 * nq || a.sky_child.size() != 4 * nq ||
+        a.roots.size() != size_t(kRoots))
+      return "space_index must be (N, 4) with space_split (N,), sky_sum and sky_child (Q, 4), roots (12,)";
+    std::vector<SNode> sn(ns);
+    std::vector<char> leaf_used(nl, 0);
+    for (size_t i = 0; i < ns; ++i) {
+      const int32_t* x = a.space_index.data() + 4 * i;
+      SNode& n = sn[i];
+      n.axis = x[0];
+      n.child[0] = x[1];
+      n.child[1] = x[2];
+      n.leaf = x[3];
+      n.split = a.space_split[i];
+      if (n.leaf >= 0) {
+        if (size_t(n.leaf) >= nl || leaf_used[size_t(n.leaf)]) return "a space leaf's index is out of range or repeated";
+        leaf_used[size_t(n.leaf)] = 1;
+      } else if (n.axis < 0 || n.axis > 2 || !std::isfinite(n.split) || n.child[0] <= int32_t(i) ||
+                 n.child[1] <= int32_t(i) || size_t(n.child[0]) >= ns || size_t(n.child[1]) >= ns) {
+        return "a space node's axis, split or children are invalid";
+      }
+    }
+    std::vector<QNode> qn(nq);
+    for (size_t i = 0; i < nq; ++i) {
+      double total = 0.0;
+      for (int k = 0; k < 4; ++k) {
+        qn[i].sum[k] = a.sky_sum[4 * i + k];
+        qn[i].child[k] = a.sky_child[4 * i + k];
+        if (!(qn[i].sum[k] >= 0.0) || !std::isfinite(qn[i].sum[k])) return "a sky sum is negative or not finite";
+        total += qn[i].sum[k];
+        if (qn[i].child[k] != 0 &&
+            (qn[i].child[k] <= int32_t(i) || size_t(qn[i].child[k]) >= nq || !(qn[i].sum[k] > 0.0)))
+          return "a sky node's child is invalid";
+      }
+      if (!(total > 0.0) || !std::isfinite(total)) return "a sky node holds no energy";
+    }
+    std::vector<Leaf> lv(nl);
+    for (size_t i = 0; i < nl; ++i) {
+      lv[i].root = a.leaf_root[i];
+      if (lv[i].root < -1 || (lv[i].root >= 0 && size_t(lv[i].root) >= nq)) return "a leaf's sky root is out of range";
+    }
+    for (int k = 0; k < kRoots; ++k)
+      if (a.roots[k] < -1 || (a.roots[k] >= 0 && size_t(a.roots[k]) >= ns)) return "a root is out of range";
+    snodes_ = std::move(sn);
+    qnodes_ = std::move(qn);
+    leaves_ = std::move(lv);
+    std::copy(a.roots.begin(), a.roots.end(), root_);
+    return "";
+  }
+
   bool empty() const { return leaves_.empty(); }
   size_t leaf_count() const { return leaves_.size(); }
   size_t cell_count() const { return qnodes_.size(); }
 
-  // The leaf holding position pos on `sheet` whose quadtree can be sampled, or -1.
-  int leaf(V3 pos, int sheet) const {
-    int n = root_[sheet_index(sheet)];
+  // The leaf holding position pos on `sheet`, on a surface of unit normal `normal`, whose quadtree can be
+  // sampled, or -1.
+  int leaf(V3 pos, int sheet, V3 normal) const {
+    int n = root_[root_index(sheet, normal)];
     if (n < 0) return -1;
     while (snodes_[n].leaf < 0) {
       const SNode& sn = snodes_[n];
@@ -156,7 +242,14 @@ class GuideTree {
     int32_t root = -1;  // its quadtree's root node, -1 where it saw no light
   };
 
-  static int sheet_index(int sheet) { return sheet >= 0 ? 0 : 1; }
+  // Each sheet's records, and each of six orientations of the surface (the normal's largest component and its
+  // sign), have a tree of their own: a floor and the wall beside it see different halves of the sky.
+  static constexpr int kRoots = 12;
+  static int root_index(int sheet, V3 n) {
+    const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
+    const int axis = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+    return 6 * (sheet >= 0 ? 0 : 1) + 2 * axis + (n[axis] < 0.0 ? 1 : 0);
+  }
 
   int32_t build_space(std::vector<GuideRecord>& r, size_t b, size_t e, const Box& box, int depth) {
     const int32_t id = int32_t(snodes_.size());
@@ -237,7 +330,7 @@ class GuideTree {
   static constexpr int kMaxSpaceDepth = 24;
   Params params_;
   Box bounds_;
-  int32_t root_[2] = {-1, -1};
+  int32_t root_[kRoots] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
   std::vector<SNode> snodes_;
   std::vector<QNode> qnodes_;
   std::vector<Leaf> leaves_;

@@ -14,7 +14,10 @@
 // light_connection.h) that is a density over directions, and both strategies count whatever emission
 // their geodesic reaches first. Either way the weights sum to one for every direction and the estimator
 // is unbiased. Camera samples fall at the pixel's stratified points (core/sobol.h) or uniform jitter.
-// Russian roulette ends long paths. Every random number comes from Rng(seed, pixel, sample).
+// Russian roulette ends long paths. Every random number comes from Rng(seed, pixel, sample). With path
+// guiding (guide_tree.h), half of a diffuse vertex's directions come from a tree trained before the render
+// (guide_training.h, by this tracer's own paths with a training seed) and the mixture's pdf is the BSDF
+// strategy's in every weight.
 //
 // This file holds the transport of one sample (sample_pixel, pbrt's Li) and the entry point
 // path_trace_scene; the pieces it uses are
@@ -26,12 +29,17 @@
 //   emission.h          emitted radiance with redshift and beaming
 //   lens_connection.h   the lens-aware light strategy of static spherical metrics and its pdf
 //   light_connection.h  the light strategy's proxies, aimed by pilot geodesics (Kerr: image proxies)
+//   guide_tree.h        path guiding's learned distribution over space and the local sky
+//   guide_training.h    its training iterations
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/rng.h"
@@ -43,6 +51,8 @@
 #include "integrators/camera.h"
 #include "integrators/chart_geometry.h"
 #include "integrators/emission.h"
+#include "integrators/guide_training.h"
+#include "integrators/guide_tree.h"
 #include "integrators/lens_connection.h"
 #include "integrators/light_connection.h"
 #include "integrators/render_loop.h"
@@ -62,9 +72,21 @@ class PathTracer {
  public:
   using Scheduler = SampleScheduler<M, S>;
 
-  PathTracer(const M& m, const Scene& sc, const RenderOptions& o)
+  // Path guiding (guide_tree.h): the tree that draws half of each diffuse vertex's directions (null: none),
+  // and, for a training iteration (guide_training.h), that its paths record what came back along each
+  // direction and draw their random numbers from `seed` instead of the render's.
+  struct Guiding {
+    const GuideTree* tree = nullptr;
+    bool train = false;
+    uint64_t seed = 0;
+  };
+  // The share of a guided vertex's directions the tree draws (the rest: the BSDF), as Mueller et al.
+  static constexpr double kGuideShare = 0.5;
+
+  PathTracer(const M& m, const Scene& sc, const RenderOptions& o, Guiding g = {})
       : sc_(sc), o_(o), camera_(m, sc.camera), filter_(o.filter, o.filter_radius), segments_(m, sc, o), lights_(m, sc, o, segments_.options()),
-        emission_(m, sc), lens_(m, sc, o.lens_images, o.light_connection == kLensConnection) {}
+        emission_(m, sc), lens_(m, sc, o.lens_images, o.light_connection == kLensConnection), guide_(g.tree),
+        train_(g.train), seed_(g.train ? g.seed : o.seed) {}
 
   // One light path while it is traced: what it has gathered (L, its throughput beta), the BSDF strategy's
   // pending weight, the lens vertex whose pdf the next segment settles, and the bookkeeping around each
@@ -88,6 +110,43 @@ class PathTracer {
     int64_t steps = 0;
     std::vector<RecordedSegment>* rec = nullptr;  // a recorded pixel's segments
     int px = 0, py = 0, s = 0;
+    // Path guiding's training: the path's diffuse vertices, each with the direction it left along, that
+    // direction's pdf, the throughput after it, and the radiance that came back along it so far.
+    struct GuideVertex {
+      GuideRecord rec;
+      double pdf;
+      V3 beta, L;
+    };
+    static constexpr int kGuideVertices = 16;
+    struct GuidePath {
+      int n = 0;
+      bool last_is_prev = false;  // the last vertex's direction is the segment just traced
+      GuideVertex v[kGuideVertices];
+      // A contribution x to the path's radiance, arriving through vertices [lo, hi): divided by each one's
+      // throughput, it is what came back along that vertex's direction.
+      void credit(V3 x, int lo, int hi) {
+        for (int j = lo; j < hi; ++j)
+          for (int c = 0; c < 3; ++c)
+            if (v[j].beta[c] > 0.0) v[j].L[c] += x[c] / v[j].beta[c];
+      }
+    };
+    std::optional<GuidePath> guide;  // training only
+    // Adds x (the path's throughput times what a light strategy found, MIS-weighted) to L.
+    void add(V3 x) {
+      L += x;
+      if (guide) guide->credit(x, 0, guide->n);
+    }
+    // Adds the emission the last segment found, beta Le weighted by mis, to L. A training path credits it to
+    // the earlier vertices, not to the one whose direction found it: the guide learns the light that arrives
+    // indirectly (or through mirrors and glass), the light strategy already finds the lamps. (Learning the
+    // lamps too drew half of the directions to them and made fig10d's error 1.2x larger again:
+    // benchmarks/README.md, "Path guiding".)
+    void add_emission(V3 le) {
+      const V3 x = beta * le * mis;
+      L += x;
+      if (!guide) return;
+      guide->credit(x, 0, guide->last_is_prev ? guide->n - 1 : guide->n);
+    }
 
     // The track to record the next segment into (null: not recorded).
     Track* open() {
@@ -118,7 +177,7 @@ class PathTracer {
   V3 camera_direction(int px, int py, size_t pix, int s, Rng& rng, double& weight) const {
     double jx, jy;
     if (o_.pixel_sampler == kSobolPixels) {
-      pixel_sample(o_.seed, pix, uint64_t(s), jx, jy);
+      pixel_sample(seed_, pix, uint64_t(s), jx, jy);
     } else {
       jx = rng.uniform();
       jy = rng.uniform();
@@ -131,8 +190,9 @@ class PathTracer {
   // With `lens`, a point on the light and one of its lensed images by the exact lens map
   // (lens_connection.h; ps.lens_v keeps the vertex for the BSDF strategy's pdf); else a direction from the
   // light's pilot-aimed proxy (light_connection.h; `aimed` keeps the proxies for the BSDF strategy's pdf).
+  // At a guided vertex (guide leaf >= 0) the BSDF strategy is the mixture of the BSDF and the guide.
   Task<void> sample_light(const SegmentEnd& e, const Material& mat, const V3& albedo, const V3& n, const V3& wo,
-                          int bounce, bool lens, Rng& rng, PathState& ps, Aim& aimed, RenderStats& st,
+                          int bounce, bool lens, int leaf, Rng& rng, PathState& ps, Aim& aimed, RenderStats& st,
                           PathFrames<M>& frames, Scheduler* sched) const {
     const SurfacePoint& sp = e.surface;
     if (lens) {
@@ -149,13 +209,14 @@ class PathTracer {
       double pb;
       const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
       if (!(max_component(f) > 0.0)) co_return;
+      if (leaf >= 0) pb = guided_pdf(leaf, wl, pb);
       Track* light_track = ps.open();
       SegmentEnd le;
       co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
                                  le);
       ps.close(le, e.sheet, bounce + 1, kLightSegment);
       if (lens_.light_sample_hits(le, sc_.lights[li], target))
-        ps.L += ps.beta * f * emission_.emission(le) / (pl + pb);
+        ps.add(ps.beta * f * emission_.emission(le) / (pl + pb));
       co_return;
     }
     co_await lights_.aim(e, sp.normal, wo, st, frames, sched, aimed);
@@ -169,12 +230,41 @@ class PathTracer {
     const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
     const double pl = lights_.lights_pdf(aimed, wl);
     if (!(max_component(f) > 0.0 && pl > 0.0)) co_return;
+    if (leaf >= 0) pb = guided_pdf(leaf, wl, pb);
     Track* light_track = ps.open();
     SegmentEnd le;
     co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
                                le);
     ps.close(le, e.sheet, bounce + 1, kLightSegment);
-    ps.L += ps.beta * f * emission_.emission(le) / (pl + pb);
+    ps.add(ps.beta * f * emission_.emission(le) / (pl + pb));
+  }
+
+  // The solid-angle pdf of a guided vertex's direction strategy (the guide's share drawn from leaf `leaf`,
+  // the rest from the BSDF, whose pdf is pb) at local direction w.
+  double guided_pdf(int leaf, V3 w, double pb) const {
+    return kGuideShare * guide_->pdf(leaf, w) + (1.0 - kGuideShare) * pb;
+  }
+
+  // A direction at a diffuse vertex from the mixture of the guide (leaf `leaf`) and the BSDF, its pdf the
+  // mixture's and its weight f |cos| / pdf.
+  BsdfSample guided_sample(const Material& mat, V3 albedo, V3 n, V3 wo, int leaf, Rng& rng) const {
+    const double uc = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+    if (uc < kGuideShare) {
+      BsdfSample b;
+      double pg, pb;
+      b.wi = guide_->sample(leaf, u1, u2, pg);
+      const V3 f = bsdf_eval(mat, albedo, n, wo, b.wi, pb);
+      b.pdf = kGuideShare * pg + (1.0 - kGuideShare) * pb;
+      b.valid = b.pdf > 0.0 && max_component(f) > 0.0;
+      if (b.valid) b.weight = f / b.pdf;
+      return b;
+    }
+    BsdfSample b = bsdf_sample(mat, albedo, n, wo, u1, u2, u3);
+    if (!b.valid || b.delta) return b;
+    const double p = guided_pdf(leaf, b.wi, b.pdf);
+    b.weight = b.weight * (b.pdf / p);
+    b.pdf = p;
+    return b;
   }
 
   // One sample of pixel (px, py): a light path traced back from the camera (pbrt's EvaluatePixelSample and
@@ -190,8 +280,9 @@ class PathTracer {
     }
     const Camera& cam = sc_.camera;
     const size_t pix = size_t(py) * cam.width + px;  // the sample's identity in the image, whatever the window
-    Rng rng(o_.seed, pix, uint64_t(s));
+    Rng rng(seed_, pix, uint64_t(s));
     PathState ps;
+    if (train_) ps.guide.emplace();
     ps.rec = recorded ? &out.rec : nullptr;
     ps.px = px;
     ps.py = py;
@@ -231,7 +322,7 @@ class PathTracer {
         const double pl = lights_.lights_pdf(aimed, ps.aimed_w);
         ps.mis = ps.aimed_pb / (ps.aimed_pb + pl);
       }
-      ps.L += ps.beta * Le * ps.mis;
+      ps.add_emission(Le);
       if (sharp) L_sharp = ps.L;
       if (e.status != kHit) break;
       const Material& mat = sc_.materials[sc_.prims[e.prim].material];
@@ -248,9 +339,18 @@ class PathTracer {
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
       const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
       const bool lens = nee && o_.light_connection != kAimedConnection && lens_.applies(e);
-      if (nee) co_await sample_light(e, mat, albedo, n, wo, bounce, lens, rng, ps, aimed, st, frames, sched);
-      const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
-      const BsdfSample bs = bsdf_sample(mat, albedo, n, wo, u1, u2, u3);
+      // A diffuse vertex in a part of space where the guide saw light draws half its directions from it.
+      const int leaf =
+          guide_ && mat.kind == MaterialKind::kDiffuse ? guide_->leaf(e.pos, e.sheet, e.surface.normal) : -1;
+      if (nee) co_await sample_light(e, mat, albedo, n, wo, bounce, lens, leaf, rng, ps, aimed, st, frames, sched);
+      BsdfSample bs;
+      if (leaf >= 0) {
+        bs = guided_sample(mat, albedo, n, wo, leaf, rng);
+      } else {
+        const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+        bs = bsdf_sample(mat, albedo, n, wo, u1, u2, u3);
+      }
+      if (ps.guide) ps.guide->last_is_prev = false;
       if (!bs.valid) break;
       ps.beta *= bs.weight;
       ps.mis = 1.0;
@@ -270,6 +370,17 @@ class PathTracer {
           if (rng.uniform() >= q) break;
           ps.beta = ps.beta / q;
         }
+      }
+      if (ps.guide && mat.kind == MaterialKind::kDiffuse && ps.guide->n < PathState::kGuideVertices) {
+        auto& gv = ps.guide->v[ps.guide->n++];
+        gv.rec.pos = e.pos;
+        gv.rec.sheet = e.sheet;
+        gv.rec.normal = e.surface.normal;
+        gv.rec.dir = bs.wi;
+        gv.pdf = bs.pdf / std::max(0.0, dot(bs.wi, n));  // (what a diffuse surface wants: L_i cos)
+        gv.beta = ps.beta;
+        gv.L = {0, 0, 0};
+        ps.guide->last_is_prev = true;
       }
       x = offset(e.pos, sp.normal, n, bs.wi);
       sheet = e.sheet;
@@ -294,6 +405,14 @@ class PathTracer {
     out.error = ps.error;
     out.steps = ps.steps;
     out.max_drift = ps.max_drift;
+    if (ps.guide) {  // a training path's records: what came back along each direction over its pdf
+      for (int j = 0; j < ps.guide->n; ++j) {
+        const auto& gv = ps.guide->v[j];
+        GuideRecord r = gv.rec;
+        r.value = (gv.L.x + gv.L.y + gv.L.z) / (3.0 * gv.pdf);
+        if (r.value > 0.0 && std::isfinite(r.value)) out.guide.push_back(r);
+      }
+    }
   }
 
   // What the camera ray through image point (x, y) (pixel units, no jitter, no filter) sees, for the render
@@ -410,12 +529,32 @@ class PathTracer {
   LightConnection<M, S> lights_;  // after segments_, whose trace options its pilots start from
   Emission<M> emission_;
   LensConnection<M> lens_;
+  const GuideTree* guide_;  // path guiding's tree, or null
+  bool train_;              // a training iteration's tracer: its paths record for the next tree
+  uint64_t seed_;           // the seed of every random number (the render's, or the training iteration's)
 };
 
 // Renders scene sc through metric M with stepper S (engine/register.h).
 template <class M, class S>
 RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& o) {
-  const PathTracer<M, S> pt(m, sc, o);
+  // Probing for the edges of lights is wasted where nothing emits (render_loop.h probes for detail anyway).
+  const bool emitters = std::any_of(sc.prims.begin(), sc.prims.end(),
+                                    [&sc](const Prim& p) { return sc.materials[p.material].emits(); });
+  // Path guiding: the tree an earlier range trained, or trained here before the first sample (guide_training.h).
+  std::shared_ptr<const GuideTree> guide = o.guide;
+  RenderStats training;
+  if (!guide && o.guide_training > 0 && emitters) {
+    using Tracer = PathTracer<M, S>;
+    auto make = [&](const GuideTree* prev, uint64_t seed) {
+      return std::make_unique<Tracer>(m, sc, o, typename Tracer::Guiding{prev, true, seed});
+    };
+    const std::function<bool()> poll = o.poll ? std::function<bool()>([&o] { return o.poll(0, 1); })
+                                              : std::function<bool()>();
+    auto trained = std::make_shared<GuideTree>();
+    train_guide<M, S>(m, sc.camera, o, sc.bvh.bounds(), make, poll, *trained, training);
+    guide = std::move(trained);
+  }
+  const PathTracer<M, S> pt(m, sc, o, {guide && !guide->empty() ? guide.get() : nullptr, false, 0});
   auto sample = [&pt](int px, int py, int s, Film& film, SampleOut& out, bool recorded, RenderStats& st,
                       SampleScheduler<M, S>* sched) {
     return pt.sample_pixel(px, py, s, film, out, recorded, st, sched);
@@ -423,10 +562,12 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
   auto probe = [&pt](double x, double y, RenderStats& st, SampleScheduler<M, S>* sched, ProbeHit& hit) {
     return pt.probe(x, y, st, sched, hit);
   };
-  // Probing for the edges of lights is wasted where nothing emits (render_loop.h probes for detail anyway).
-  const bool emitters = std::any_of(sc.prims.begin(), sc.prims.end(),
-                                    [&sc](const Prim& p) { return sc.materials[p.material].emits(); });
-  return render_passes<M, S>(m, sc.camera, o, sample, probe, emitters);
+  RenderResult r = render_passes<M, S>(m, sc.camera, o, sample, probe, emitters);
+  r.guide = guide;
+  r.guide_segments = training.segments;
+  r.segments += training.segments;
+  r.total_steps += training.steps;
+  return r;
 }
 
 }  // namespace wv

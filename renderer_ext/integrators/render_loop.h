@@ -20,6 +20,7 @@
 #include "core/parallel.h"
 #include "core/vec3.h"
 #include "film/film.h"
+#include "integrators/guide_tree.h"
 #include "integrators/render_types.h"
 #include "integrators/sample_scheduler.h"
 #include "scene/scene.h"
@@ -36,6 +37,7 @@ struct SampleOut {
   V3 albedo{0, 0, 0}, albedo_normal{0, 0, 0};  // at the first non-specular hit (if the film keeps them)
   V3 emission{0, 0, 0};  // the part of L collected up to and at the first non-specular hit
   std::vector<RecordedSegment> rec;  // recorded pixels: this sample's segments
+  std::vector<GuideRecord> guide;    // path guiding's training: this path's records (guide_training.h)
 };
 
 // Largest radiance one sample may carry (per channel): far above any scene's light (a sun seen from a

@@ -4,10 +4,12 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "film/film.h"
 #include "film/pixel_filter.h"
+#include "integrators/guide_tree.h"
 #include "spacetime/geodesic.h"
 
 namespace wv {
@@ -61,6 +63,11 @@ struct RenderOptions {
   // probes are then not traced again.
   bool classes_given = false;
   std::vector<int64_t> classes;
+  // Path guiding (guide_training.h): training iterations of 1, 2, 4, ... up to guide_training samples per
+  // point of a grid over the image, whose last tree draws half of each diffuse vertex's directions; 0: off.
+  int guide_training = 0;
+  // The tree an earlier range of the same render trained (RenderResult::guide): used instead of training.
+  std::shared_ptr<const GuideTree> guide;
   int filter = kBoxFilter;     // pixel reconstruction filter (film/pixel_filter.h), by importance sampling
   double filter_radius = 0.0;  // its support's half-width in pixels
   bool batch = false;      // curved space: step the geodesics of many samples together in SIMD lanes
@@ -121,6 +128,8 @@ struct RenderResult {
   std::vector<int64_t> pixel_classes;
   int num_columns = 0;
   std::vector<RecordedSegment> recorded;
+  std::shared_ptr<const GuideTree> guide;  // path guiding's tree (trained here, or the one handed in)
+  int64_t guide_segments = 0;              // segments its training traced (also in `segments`)
 };
 
 }  // namespace wv

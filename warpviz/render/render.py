@@ -96,6 +96,7 @@ def render(
     max_drift: float | None = None,
     chord_tolerance: float | None = None,
     segment_method: str | None = None,
+    guide_training: int | None = None,
     aovs=None,
     crop=None,
     progress: Callable[[int, int], object] | None = None,
@@ -216,6 +217,15 @@ def render(
         How curved segments are traced (default ``'closed_form'``): the ray's exact orbit where the
         metric has one in closed form (Schwarzschild), else the integrator; ``'integrate'`` always steps
         the integrator, the reference the closed form is tested against (docs/architecture.md).
+    guide_training : int, optional, keyword-only
+        Path guiding (default 0: off). Before the first sample, training iterations of 1, 2, 4, ... up to
+        ``guide_training`` samples per point of a grid of at most 64 columns over the image learn, over the
+        local observer's sky, from which directions light arrives indirectly at each part of the scene (off
+        lit walls, through mirrors and glass, along every lensed path); half of each diffuse bounce's
+        directions are then drawn from it, combined with BSDF sampling and the light connection by
+        multiple importance sampling, so the image stays unbiased. The same tree for every pass, tile and
+        resumed range (its own random numbers, from ``seed``). Where it helps and where not yet:
+        benchmarks/README.md, "Path guiding".
     batch : bool, optional, keyword-only
         In curved space, step the geodesics of many samples together in SIMD lanes (default True,
         1.5-1.9x faster). The image is bit-identical either way.
@@ -298,7 +308,7 @@ def render(
                  "filter_radius": filter_radius, "light_margin": light_margin, "pilot_tol": pilot_tol,
                  "batch": batch, "rr_depth": rr_depth, "max_steps": max_steps, "escape_radius": escape_radius,
                  "max_drift": max_drift, "chord_tolerance": chord_tolerance,
-                 "segment_method": segment_method}  # fmt: skip
+                 "segment_method": segment_method, "guide_training": guide_training}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:
             options[key] = value
@@ -379,6 +389,18 @@ def render(
     core_options = {key: value for key, value in options.items() if key != "progress"}
     core_options["record_samples"] = options["spp"]  # a recorded pixel's paths: its first spp samples
 
+    t0 = time.perf_counter()
+    guide_segments = 0  # the segments path guiding's training traced
+    if options["guide_training"] > 0:  # path guiding: trained once (a one-pixel range trains the whole image's
+        # tree, guide_training.h), then handed to every range, tile and pass
+        trained = core.render(native, {**core_options, "spp": 1, "sample_begin": 0, "crop": [0, 0, 1, 1], "aovs": [],
+                                       "edge_samples": 1, "detail_samples": 1, "record_pixels": None})  # fmt: skip
+        if not trained["completed"]:
+            raise KeyboardInterrupt
+        core_options["guide"] = trained.get("guide")  # (None: nothing emits, nothing to learn)
+        guide_segments = int(trained["stats"]["guide_segments"])
+    trained_s = time.perf_counter() - t0
+
     def render_range(extra: dict) -> dict:
         return core.render(native, {**core_options, **extra})
 
@@ -394,9 +416,9 @@ def render(
         if not limited:  # the passes are known: each one's successors queue behind it
             render_range.expect(start.spp, pass_plan(start.spp, npix=cw * ch, spp=target, pass_samples=pass_samples))
 
-    t0 = time.perf_counter()
     done, completed, stopped_by = run_passes(
-        render_range, start, npix=cw * ch, spp=target, seconds=time_limit, noise=noise_target,
+        render_range, start, npix=cw * ch, spp=target,
+        seconds=None if time_limit is None else max(0.0, time_limit - trained_s), noise=noise_target,
         clock=time.perf_counter, progress=progress, on_pass=on_pass, pass_samples=pass_samples)  # fmt: skip
     film = done.film.gather(client) if hasattr(done.film, "gather") else done.film  # tiles on a cluster, gathered
     if film is None:  # stopped before the first pass had rendered anything: nothing to return
@@ -407,6 +429,7 @@ def render(
         progress(total, total)
     stats = {"segments_by_status": {}, "segments": 0, "steps": 0, "seconds": 0.0, "edge_pixels": 0, "detail_pixels": 0,
              "threads": 0, **_plain(done.stats)}  # fmt: skip
+    stats["guide_segments"] = guide_segments
     stats["samples"] = int(resolved["samples_total"])
     stats["samples_with_errors"] = int(resolved["errors_total"])
     error_fraction = stats["samples_with_errors"] / stats["samples"] if stats["samples"] else 0.0
