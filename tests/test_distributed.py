@@ -59,6 +59,15 @@ def test_two_workers_give_the_local_image_bit_for_bit(cluster2, local_fig07, til
     assert img.metadata["noise"] == pytest.approx(local_fig07.metadata["noise"], rel=1e-12)
 
 
+def test_a_guided_render_on_two_workers_is_the_local_one(cluster2):
+    """Path guiding's tree is trained once on the client and handed to every tile: the local image."""
+    _, client = cluster2
+    local = wv.render("fig07", width=24, height=18, progress=None, spp=2, threads=2, guide_training=2)
+    img = wv.render("fig07", width=24, height=18, progress=None, spp=2, client=client, tile=8, guide_training=2)
+    assert img.stats["guide_segments"] > 0
+    assert_same_image(img, local)
+
+
 def test_one_worker_and_a_curved_wormhole_room_also(local_fig07):
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cl, \
             distributed.Client(cl) as client:  # fmt: skip
