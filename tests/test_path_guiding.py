@@ -128,8 +128,19 @@ from test_lens_connection import _wormhole_room  # noqa: E402
 from test_render import _image_means, assert_same_mean  # noqa: E402
 
 
+def _lamps_on_both_sheets():
+    """The wormhole room with a second lamp on the other sheet, over a floor there: two lights, each of which
+    reaches its own sheet easily and the other only through the throat."""
+    scene = _wormhole_room(1)
+    scene["shapes"].append(dict(scene["shapes"][6], sheet=-1))
+    scene["shapes"].append({"type": "quad", "corner": [-12, -12, -12], "edge_u": [24, 0, 0], "edge_v": [0, 24, 0],
+                            "material": 0, "sheet": -1})  # fmt: skip
+    return scene
+
+
 @pytest.mark.parametrize("scene", [
     pytest.param(lambda: room(metric("minkowski"), size=(12, 9), light=3.0), id="flat"),
+    pytest.param(_lamps_on_both_sheets, id="ellis-two-lamps"),
     pytest.param(lambda: room(metric("schwarzschild", 1.0), size=(12, 9), light=3.0), id="schwarzschild"),
     pytest.param(lambda: room(metric("kerr", 1.0, 0.9), size=(12, 9), light=3.0, spheres=False), id="kerr-0.9"),
     pytest.param(lambda: _wormhole_room(1), id="ellis"),
@@ -189,9 +200,27 @@ def test_a_bad_guide_or_training_option_is_refused_naming_it(monkeypatch):
     assert good is not None and good["roots"].shape == (12,) and good["sky_sum"].shape[1] == 4
     for key, bad in (("sky_child", lambda a: np.full_like(a, 10**6)), ("sky_sum", lambda a: -a),
                      ("space_index", lambda a: np.zeros_like(a) - 7), ("roots", lambda a: a[:2]),
-                     ("leaf_root", lambda a: a + 10**6)):  # fmt: skip
+                     ("leaf_root", lambda a: a + 10**6), ("leaf_lights", lambda a: np.full_like(a, 0.7))):  # fmt: skip
         broken = dict(good, **{key: np.ascontiguousarray(bad(good[key]))})
         with pytest.raises(ValueError, match="render option 'guide'"):
             real(native, dict(options, guide=broken))
     with pytest.raises(ValueError, match="render option 'guide'"):
         real(native, dict(options, guide={"roots": good["roots"]}))
+
+
+def test_each_part_of_space_learns_which_light_to_choose(monkeypatch):
+    """With a lamp on each sheet of a wormhole, the leaves learn to choose mostly their own sheet's lamp (the
+    other is still chosen at least kEvenLights / 2 of the time), and the learnt choice keeps the mean."""
+    import importlib
+
+    rr = importlib.import_module("warpviz.render.render")
+    sc = _lamps_on_both_sheets()
+    calls = []
+    real = rr.core.render
+    monkeypatch.setattr(rr.core, "render", lambda native, options: calls.append(options) or real(native, options))
+    wv.render(sc, spp=1, guide_training=8)
+    rows = calls[-1]["guide"]["leaf_lights"]
+    learnt = rows[rows[:, 0] >= 0]
+    assert rows.shape[1] == 2 and len(learnt) > 0
+    np.testing.assert_allclose(learnt.sum(axis=1), 1.0, rtol=1e-12)
+    assert learnt.min() >= 0.1 - 1e-12 and learnt.max() > 0.8  # (the even share: 0.2 / 2 lights)

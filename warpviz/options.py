@@ -150,8 +150,9 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
     RenderOption("guide_training", "int", 0, "Path guiding: before the first sample, training iterations of 1, "
                  "2, 4, ... up to this many samples per point of a grid over the image learn from which directions "
                  "of the local sky light arrives indirectly (off other surfaces, through mirrors and glass) at each "
-                 "part of the scene, and half of every diffuse bounce's directions are then drawn from what the "
-                 "last iteration learnt (still unbiased); 0 turns it off.", lo=0, hi=256,
+                 "part of the scene, and which lights reach it, and half of every diffuse bounce's directions "
+                 "and its choice of light are then drawn from what the last iteration learnt (still unbiased); "
+                 "0 turns it off.", lo=0, hi=256,
                  flag="--guide-training"),  # fmt: skip
     RenderOption("filter", "choice", "box", "Pixel reconstruction filter, by importance sampling of each "
                  "camera sample's offset.", choices=tuple(FILTER_RADII)),  # fmt: skip

@@ -248,7 +248,8 @@ T option(const nb::dict& o, const char* key) {
   return v;
 }
 
-// Path guiding's tree (integrators/guide_tree.h) as the dict of arrays a render returns as "guide", and back:
+// Path guiding's tree (integrators/guide_tree.h) as the dict of arrays a render returns as "guide" (space_index,
+// space_split, sky_sum, sky_child, leaf_root, roots, leaf_lights: GuideTree::Arrays), and back:
 // the later ranges of the render (passes, tiles, a resumed range) are handed it instead of training again.
 nb::dict guide_to_dict(const wv::GuideTree& g) {
   wv::GuideTree::Arrays a = g.arrays();
@@ -259,6 +260,8 @@ nb::dict guide_to_dict(const wv::GuideTree& g) {
   d["sky_sum"] = to_numpy(std::move(a.sky_sum), {nq, 4});
   d["sky_child"] = to_numpy(std::move(a.sky_child), {nq, 4});
   d["leaf_root"] = to_numpy(std::move(a.leaf_root), {nl});
+  const size_t nlights = nl > 0 ? a.leaf_lights.size() / nl : 0;
+  d["leaf_lights"] = to_numpy(std::move(a.leaf_lights), {nl, nlights});
   d["roots"] = to_numpy(std::move(a.roots), {nr});
   return d;
 }
@@ -283,6 +286,7 @@ std::shared_ptr<const wv::GuideTree> guide_from(nb::handle h) {
   a.sky_sum = f64("sky_sum");
   a.sky_child = i32("sky_child");
   a.leaf_root = i32("leaf_root");
+  a.leaf_lights = f64("leaf_lights");
   a.roots = i32("roots");
   auto g = std::make_shared<wv::GuideTree>();
   const std::string why = g->load(a);

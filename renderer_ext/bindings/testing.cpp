@@ -144,7 +144,8 @@ nb::dict guide_tree(F64In pos, std::vector<int> sheets, F64In dirs, F64In values
   box.hi = wv::V3(hi.data());
   wv::GuideTree tree;
   tree.build(std::move(recs), box, {leaf_records, rho, max_depth});
-  const int leaf = tree.leaf(wv::V3(at.data()), at_sheet, wv::V3(0.0, 0.0, 1.0));
+  int leaf = tree.leaf(wv::V3(at.data()), at_sheet, wv::V3(0.0, 0.0, 1.0));
+  if (leaf >= 0 && !tree.has_sky(leaf)) leaf = -1;
   const size_t k = eval.shape(0), ns = u.shape(0);
   std::vector<double> pe(k, 0.0), ws(3 * ns, 0.0), ps(ns, 0.0);
   if (leaf >= 0) {

@@ -1,7 +1,8 @@
 // Path guiding's training (guide_tree.h): before a render's first sample, iterations of 1, 2, 4, ...,
 // o.guide_training samples at each point of a grid of at most kGuideGridWidth columns over the camera's whole
 // image. Iteration k's paths draw their directions from iteration k - 1's tree (the first: BSDF only) and
-// record, at each diffuse vertex, the direction they left along and what came back (path_tracer.h); the
+// record, at each diffuse vertex, the direction they left along and what came back, and what each light
+// sample brought (path_tracer.h); the
 // records, in (grid point, sample) order, build iteration k's tree, and the last tree is the render's guide.
 //
 // The training paths draw their own random numbers (a seed derived from the render's and the iteration's),
@@ -35,12 +36,12 @@ inline uint64_t guide_seed(uint64_t seed, int k) {
   return z ^ (z >> 31);
 }
 
-// Trains `tree` for camera cam. make(prev, seed) gives the iteration's tracer (a pointer-like object whose
+// Trains `tree` for camera cam and a scene of `lights` lights. make(prev, seed) gives the iteration's tracer (a pointer-like object whose
 // sample_pixel(px, py, s, film, out, recorded, stats, scheduler) records into out.guide), sampling with tree
 // prev (null: none); poll() false stops the training (the tree is then left empty). Returns the training's
 // segment statistics in `stats`.
 template <class M, class S, class Make>
-void train_guide(const M& m, const Camera& cam, const RenderOptions& o, const Box& bounds, const Make& make,
+void train_guide(const M& m, const Camera& cam, const RenderOptions& o, const Box& bounds, int lights, const Make& make,
                  const std::function<bool()>& poll, GuideTree& tree, RenderStats& stats) {
   tree = GuideTree();
   if (o.guide_training <= 0) return;
@@ -79,7 +80,9 @@ void train_guide(const M& m, const Camera& cam, const RenderOptions& o, const Bo
       stats.steps += st.steps;
     }
     GuideTree next;
-    next.build(std::move(records), bounds, GuideTree::Params{});
+    GuideTree::Params params;
+    params.lights = lights;
+    next.build(std::move(records), bounds, params);
     prev = std::move(next);
   }
   tree = std::move(prev);

@@ -14,7 +14,12 @@
 //
 // A tree is built once from one training iteration's records, in their given order (the same records give
 // the same tree, bit for bit, however many threads traced them) and does not change while it is sampled.
-// Where a leaf saw no light (or no record fell in it) the guide has nothing to say: leaf() is -1 there.
+// Where a leaf saw no light arrive (or no record fell in it) its sky has nothing to say (has_sky() false).
+//
+// Each leaf also learns how often to choose each light (light_select): the light samples' records (what each
+// brought over the probability of choosing its light) give each light's share of the leaf's direct light,
+// mixed with an even choice, so a sun on the other sheet of a wormhole that seldom reaches a room is seldom
+// chosen there (issue 34).
 #pragma once
 
 #include <algorithm>
@@ -37,6 +42,11 @@ struct GuideRecord {
   V3 normal;  // the surface's unit normal (user frame)
   V3 dir;
   double value = 0.0;
+  // A light sample's record instead (light >= 0: its index in the scene's light list; dir and value unused):
+  // what it brought, MIS-weighted, over the probability of choosing that light (an estimate of the light's
+  // share of the vertex's direct light, >= 0).
+  int light = -1;
+  double light_value = 0.0;
 };
 
 // Unit direction (local frame) <-> point of the unit square, equal-area.
@@ -57,7 +67,11 @@ class GuideTree {
     int leaf_records = 4000;  // a space node with more records is divided
     double rho = 0.01;        // a quadrant with more of its leaf's energy is divided
     int max_depth = 12;       // quadtree levels below the root (cells down to 4^-12 of the sky)
+    int lights = 0;           // the scene's lights: each leaf learns how often to choose each one
   };
+  // The share of a leaf's light choices spread evenly over the lights, whatever it learnt: a light the
+  // training never saw reach a part of space is still chosen there, 1 / (5 lights) of the time.
+  static constexpr double kEvenLights = 0.2;
 
   GuideTree() = default;
 
@@ -67,6 +81,7 @@ class GuideTree {
     *this = GuideTree();
     params_ = p;
     bounds_ = bounds;
+    nlights_ = std::max(0, p.lights);
     for (int k = 0; k < kRoots; ++k) {
       auto mid = std::stable_partition(records.begin(), records.end(),
                                        [k](const GuideRecord& r) { return root_index(r.sheet, r.normal) == k; });
@@ -86,7 +101,8 @@ class GuideTree {
     std::vector<double> sky_sum;       // (Q, 4)
     std::vector<int32_t> sky_child;    // (Q, 4)
     std::vector<int32_t> leaf_root;    // (L,)
-    std::vector<int32_t> roots;        // (2,)
+    std::vector<int32_t> roots;        // (12,)
+    std::vector<double> leaf_lights;   // (L, lights): each leaf's light choice, -1 in a row where none
   };
   Arrays arrays() const {
     Arrays a;
@@ -100,6 +116,7 @@ class GuideTree {
     }
     for (const Leaf& l : leaves_) a.leaf_root.push_back(l.root);
     a.roots.assign(root_, root_ + kRoots);
+    a.leaf_lights = leaf_lights_;
     return a;
   }
   // The tree from arrays(): an empty string, or what is wrong with them (nothing is kept then). Every index
@@ -150,9 +167,27 @@ class GuideTree {
     }
     for (int k = 0; k < kRoots; ++k)
       if (a.roots[k] < -1 || (a.roots[k] >= 0 && size_t(a.roots[k]) >= ns)) return "a root is out of range";
+    const size_t nlights = nl > 0 ? a.leaf_lights.size() / nl : 0;
+    if (nlights * nl != a.leaf_lights.size()) return "leaf_lights must have a row per leaf";
+    for (size_t i = 0; i < nl && nlights > 0; ++i) {
+      const double* row = a.leaf_lights.data() + i * nlights;
+      if (row[0] < 0.0) {
+        for (size_t k = 0; k < nlights; ++k)
+          if (row[k] != -1.0) return "a leaf's light choice is partly missing";
+        continue;
+      }
+      double sum = 0.0;
+      for (size_t k = 0; k < nlights; ++k) {
+        if (!(row[k] > 0.0) || !std::isfinite(row[k])) return "a light's probability is not positive and finite";
+        sum += row[k];
+      }
+      if (!(std::fabs(sum - 1.0) < 1e-9)) return "a leaf's light probabilities do not sum to one";
+    }
     snodes_ = std::move(sn);
     qnodes_ = std::move(qn);
     leaves_ = std::move(lv);
+    nlights_ = int(nlights);
+    leaf_lights_ = a.leaf_lights;
     std::copy(a.roots.begin(), a.roots.end(), root_);
     return "";
   }
@@ -161,8 +196,7 @@ class GuideTree {
   size_t leaf_count() const { return leaves_.size(); }
   size_t cell_count() const { return qnodes_.size(); }
 
-  // The leaf holding position pos on `sheet`, on a surface of unit normal `normal`, whose quadtree can be
-  // sampled, or -1.
+  // The leaf holding position pos on `sheet`, on a surface of unit normal `normal`, or -1.
   int leaf(V3 pos, int sheet, V3 normal) const {
     int n = root_[root_index(sheet, normal)];
     if (n < 0) return -1;
@@ -170,8 +204,13 @@ class GuideTree {
       const SNode& sn = snodes_[n];
       n = pos[sn.axis] < sn.split ? sn.child[0] : sn.child[1];
     }
-    const int l = snodes_[n].leaf;
-    return leaves_[l].root >= 0 ? l : -1;
+    return snodes_[n].leaf;
+  }
+  // Whether leaf l's quadtree can be sampled (it saw light arrive), for pdf() and sample().
+  bool has_sky(int l) const { return leaves_[size_t(l)].root >= 0; }
+  // Leaf l's probabilities of choosing each light (Params::lights of them), or null where it learnt none.
+  const double* light_select(int l) const {
+    return nlights_ > 0 && leaf_lights_[size_t(l) * nlights_] >= 0.0 ? &leaf_lights_[size_t(l) * nlights_] : nullptr;
   }
 
   // Solid-angle density of sample() in leaf l for local unit direction w.
@@ -259,6 +298,7 @@ class GuideTree {
     if (e - b <= size_t(params_.leaf_records) || depth >= kMaxSpaceDepth || !(ext[axis] > 0.0)) {
       snodes_[id].leaf = int32_t(leaves_.size());
       leaves_.push_back({build_sky(r, b, e)});
+      learn_lights(r, b, e);
       return id;
     }
     const double split = 0.5 * (box.lo[axis] + box.hi[axis]);
@@ -275,6 +315,25 @@ class GuideTree {
     snodes_[id].child[0] = c0;
     snodes_[id].child[1] = c1;
     return id;
+  }
+
+  // The light choice of the leaf just made, from the light records among [b, e): each light's share of what
+  // they brought, mixed with the even choice (kEvenLights); -1 in the first entry where they brought nothing.
+  void learn_lights(const std::vector<GuideRecord>& r, size_t b, size_t e) {
+    if (nlights_ <= 0) return;
+    std::vector<double> sum(size_t(nlights_), 0.0);
+    double total = 0.0;
+    for (size_t i = b; i < e; ++i) {
+      const GuideRecord& g = r[i];
+      if (g.light < 0 || g.light >= nlights_ || !(g.light_value > 0.0) || !std::isfinite(g.light_value)) continue;
+      sum[size_t(g.light)] += g.light_value;
+      total += g.light_value;
+    }
+    const size_t at = leaf_lights_.size();
+    leaf_lights_.resize(at + size_t(nlights_), -1.0);
+    if (!(total > 0.0) || !std::isfinite(total)) return;
+    for (int k = 0; k < nlights_; ++k)
+      leaf_lights_[at + size_t(k)] = (1.0 - kEvenLights) * sum[size_t(k)] / total + kEvenLights / nlights_;
   }
 
   // The quadtree of records [b, e) (their square coordinates), or -1 if they carry no energy.
@@ -334,6 +393,8 @@ class GuideTree {
   std::vector<SNode> snodes_;
   std::vector<QNode> qnodes_;
   std::vector<Leaf> leaves_;
+  int nlights_ = 0;
+  std::vector<double> leaf_lights_;  // (leaves, nlights_): light_select's rows
 };
 
 }  // namespace wv

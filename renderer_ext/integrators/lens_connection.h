@@ -230,9 +230,10 @@ class LensConnection {
   }
 
 
-  // A direction from v towards light number li (of the scene's light list) and its pdf, with the point
-  // aimed at; u1, u2 pick the point, u3 the image.
-  bool sample(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf, V3& target) const {
+  // A direction from v towards light number li (of the scene's light list), chosen with probability 1 / per,
+  // and its pdf, with the point aimed at; u1, u2 pick the point, u3 the image.
+  bool sample(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf, V3& target,
+              double per) const {
     const int p = sc_.lights[li];
     LightPoint lp;
     if (!sample_light_point(sc_, p, v.pos, u1, u2, lp)) return false;
@@ -249,7 +250,7 @@ class LensConnection {
     }
     if (!(im.weight[k] > 0.0)) return false;
     w = im.w[k];
-    pdf = dot(w, v.normal_local) / (im.area * im.total * double(sc_.lights.size()));
+    pdf = dot(w, v.normal_local) / (im.area * im.total * per);
     target = lp.pos;
     if (proposal_) {  // it counts only if its proxy orbit crosses the light first at B
       const LightCrossing x = crossing(v, w, li);
@@ -267,8 +268,9 @@ class LensConnection {
 
   // Solid-angle pdf with which the light strategy at v draws local direction w whose geodesic first hits
   // prim p at user-frame point x (0 if p is not a light or w not one of x's images of order < N; as a
-  // proposal, whatever x: the pdf is that of the point where w's proxy orbit first crosses the light).
-  double pdf(const LensVertex& v, V3 w, int p, V3 x) const {
+  // proposal, whatever x: the pdf is that of the point where w's proxy orbit first crosses the light); the
+  // lights chosen with probabilities sel (null: evenly).
+  double pdf(const LensVertex& v, V3 w, int p, V3 x, const double* sel) const {
     const auto it = std::find(sc_.lights.begin(), sc_.lights.end(), p);
     if (p < 0 || it == sc_.lights.end()) return 0.0;
     if (proposal_) {
@@ -278,7 +280,8 @@ class LensConnection {
     }
     LightPoint lp;
     if (!light_point_at(sc_, p, v.pos, x, lp)) return 0.0;
-    return lens_pdf(lens_, v, w, light(p, lp), orders_, 1.0 / double(sc_.lights.size()));
+    const double p_light = sel ? sel[it - sc_.lights.begin()] : 1.0 / double(sc_.lights.size());
+    return lens_pdf(lens_, v, w, light(p, lp), orders_, p_light);
   }
 
  private:

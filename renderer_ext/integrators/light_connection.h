@@ -95,19 +95,21 @@ class LightConnection {
     }
   }
 
-  // Mixture pdf of the light strategy for local direction w at the vertex a was aimed from.
-  double lights_pdf(const Aim& a, V3 w) const {
+  // Mixture pdf of the light strategy for local direction w at the vertex a was aimed from, its lights chosen
+  // with probabilities sel (null: evenly).
+  double lights_pdf(const Aim& a, V3 w, const double* sel) const {
     double s = 0.0;
     for (size_t i = 0; i < sc_.lights.size(); ++i) {
       const int l = sc_.lights[i];
+      const double chosen = sel ? sel[i] : 1.0;  // (times 1: the even choice's sums, bit for bit)
       if (a.images_of(i) > 0) {
         for (int k = 0; k < a.images[i]; ++k)
-          s += a.image[i][k].weight / a.image_total[i] * image_pdf(a.image[i][k], w);
+          s += chosen * (a.image[i][k].weight / a.image_total[i] * image_pdf(a.image[i][k], w));
       } else if (sc_.prims[l].sheet == a.sheet) {
-        s += light_pdf(i < size_t(kAimedLights) ? a.proxy[i] : light_proxy(sc_, l, a.pos, a.to_local), w);
+        s += chosen * light_pdf(i < size_t(kAimedLights) ? a.proxy[i] : light_proxy(sc_, l, a.pos, a.to_local), w);
       }
     }
-    return s / double(sc_.lights.size());
+    return sel ? s : s / double(sc_.lights.size());
   }
 
   // A local direction towards light number li from its image proxies (u3 picks the image) or its aimed

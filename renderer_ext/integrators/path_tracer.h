@@ -119,6 +119,7 @@ class PathTracer {
     };
     static constexpr int kGuideVertices = 16;
     struct GuidePath {
+      std::vector<GuideRecord> lights;  // the path's light samples that brought light
       int n = 0;
       bool last_is_prev = false;  // the last vertex's direction is the segment just traced
       GuideVertex v[kGuideVertices];
@@ -131,6 +132,8 @@ class PathTracer {
       }
     };
     std::optional<GuidePath> guide;  // training only
+    // The light choice of the path's last diffuse vertex (GuideTree::light_select), or null: even.
+    const double* select = nullptr;
     // Adds x (the path's throughput times what a light strategy found, MIS-weighted) to L.
     void add(V3 x) {
       L += x;
@@ -199,13 +202,12 @@ class PathTracer {
       ps.lens_v = lens_vertex(e);
       // The light's index and, from what is left of the same uniform number, the image's: as many random
       // numbers as the aimed connection draws, so a vanishing mass reproduces its (flat) paths.
-      const double ul = rng.uniform() * double(sc_.lights.size());
-      const int li = std::min(int(sc_.lights.size()) - 1, int(ul));
-      const double u3 = std::min(ul - double(li), 1.0 - 1e-16);
+      double u3, per;
+      const int li = choose_light(ps.select, rng, u3, per);
       const double u1 = rng.uniform(), u2 = rng.uniform();
       V3 wl, target;
       double pl;
-      if (!lens_.sample(ps.lens_v, li, u1, u2, u3, wl, pl, target)) co_return;
+      if (!lens_.sample(ps.lens_v, li, u1, u2, u3, wl, pl, target, per)) co_return;
       double pb;
       const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
       if (!(max_component(f) > 0.0)) co_return;
@@ -216,19 +218,18 @@ class PathTracer {
                                  le);
       ps.close(le, e.sheet, bounce + 1, kLightSegment);
       if (lens_.light_sample_hits(le, sc_.lights[li], target))
-        ps.add(ps.beta * f * emission_.emission(le) / (pl + pb));
+        add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
       co_return;
     }
     co_await lights_.aim(e, sp.normal, wo, st, frames, sched, aimed);
-    const double ul = rng.uniform() * double(sc_.lights.size());
-    const int li = std::min(int(sc_.lights.size()) - 1, int(ul));
-    const double u3 = std::min(ul - double(li), 1.0 - 1e-16);  // the image, where a light has several
+    double u3, per;  // (u3: the image, where a light has several)
+    const int li = choose_light(ps.select, rng, u3, per);
     const double u1 = rng.uniform(), u2 = rng.uniform();
     V3 wl;
     if (!lights_.sample(aimed, e, li, u1, u2, u3, wl)) co_return;
     double pb;
     const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
-    const double pl = lights_.lights_pdf(aimed, wl);
+    const double pl = lights_.lights_pdf(aimed, wl, ps.select);
     if (!(max_component(f) > 0.0 && pl > 0.0)) co_return;
     if (leaf >= 0) pb = guided_pdf(leaf, wl, pb);
     Track* light_track = ps.open();
@@ -236,7 +237,51 @@ class PathTracer {
     co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
                                le);
     ps.close(le, e.sheet, bounce + 1, kLightSegment);
-    ps.add(ps.beta * f * emission_.emission(le) / (pl + pb));
+    add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
+  }
+
+  // A light from the scene's list for a light sample: evenly (sel null; as before guiding, bit for bit) or by
+  // a guide leaf's probabilities sel; u3 what is left of the uniform number (the image's choice), `per` the
+  // reciprocal of the light's probability.
+  int choose_light(const double* sel, Rng& rng, double& u3, double& per) const {
+    const int nl = int(sc_.lights.size());
+    if (!sel) {
+      const double ul = rng.uniform() * double(nl);
+      const int li = std::min(nl - 1, int(ul));
+      u3 = std::min(ul - double(li), 1.0 - 1e-16);
+      per = double(nl);
+      return li;
+    }
+    const double u = rng.uniform();
+    double before = 0.0;
+    int li = nl - 1;
+    for (int k = 0; k < nl - 1; ++k) {
+      if (u < before + sel[k]) {
+        li = k;
+        break;
+      }
+      before += sel[k];
+    }
+    u3 = std::clamp((u - before) / sel[li], 0.0, 1.0 - 1e-16);
+    per = 1.0 / sel[li];
+    return li;
+  }
+
+  // What a light sample of light li at vertex e brought (the path's throughput times its MIS-weighted
+  // estimate), added to the path; a training path also records the estimate, for the leaf's light choice.
+  void add_light(PathState& ps, const SegmentEnd& e, int li, V3 x) const {
+    ps.add(x);
+    if (!ps.guide) return;
+    GuideRecord r;
+    r.pos = e.pos;
+    r.sheet = e.sheet;
+    r.normal = e.surface.normal;
+    r.light = li;
+    double v = 0.0;
+    for (int c = 0; c < 3; ++c)
+      if (ps.beta[c] > 0.0) v += x[c] / ps.beta[c];
+    r.light_value = v / 3.0;
+    if (r.light_value > 0.0 && std::isfinite(r.light_value)) ps.guide->lights.push_back(r);
   }
 
   // The solid-angle pdf of a guided vertex's direction strategy (the guide's share drawn from leaf `leaf`,
@@ -316,10 +361,10 @@ class PathTracer {
           sc_.materials[sc_.prims[e.prim].material].beaming)
         L_own_shift = ps.beta * Le * ps.mis;
       if (ps.lens_prev) {
-        const double pl = e.status == kHit ? lens_.pdf(ps.lens_v, ps.lens_w, e.prim, e.pos) : 0.0;
+        const double pl = e.status == kHit ? lens_.pdf(ps.lens_v, ps.lens_w, e.prim, e.pos, ps.select) : 0.0;
         ps.mis = ps.lens_pb / (ps.lens_pb + pl);
       } else if (ps.aimed_prev && max_component(Le) > 0.0) {
-        const double pl = lights_.lights_pdf(aimed, ps.aimed_w);
+        const double pl = lights_.lights_pdf(aimed, ps.aimed_w, ps.select);
         ps.mis = ps.aimed_pb / (ps.aimed_pb + pl);
       }
       ps.add_emission(Le);
@@ -340,8 +385,10 @@ class PathTracer {
       const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
       const bool lens = nee && o_.light_connection != kAimedConnection && lens_.applies(e);
       // A diffuse vertex in a part of space where the guide saw light draws half its directions from it.
-      const int leaf =
-          guide_ && mat.kind == MaterialKind::kDiffuse ? guide_->leaf(e.pos, e.sheet, e.surface.normal) : -1;
+      // and chooses its lights as the guide learnt there.
+      const int space = guide_ && mat.kind == MaterialKind::kDiffuse ? guide_->leaf(e.pos, e.sheet, e.surface.normal) : -1;
+      const int leaf = space >= 0 && guide_->has_sky(space) ? space : -1;
+      ps.select = space >= 0 ? guide_->light_select(space) : nullptr;
       if (nee) co_await sample_light(e, mat, albedo, n, wo, bounce, lens, leaf, rng, ps, aimed, st, frames, sched);
       BsdfSample bs;
       if (leaf >= 0) {
@@ -412,6 +459,7 @@ class PathTracer {
         r.value = (gv.L.x + gv.L.y + gv.L.z) / (3.0 * gv.pdf);
         if (r.value > 0.0 && std::isfinite(r.value)) out.guide.push_back(r);
       }
+      out.guide.insert(out.guide.end(), ps.guide->lights.begin(), ps.guide->lights.end());
     }
   }
 
@@ -551,7 +599,7 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
     const std::function<bool()> poll = o.poll ? std::function<bool()>([&o] { return o.poll(0, 1); })
                                               : std::function<bool()>();
     auto trained = std::make_shared<GuideTree>();
-    train_guide<M, S>(m, sc.camera, o, sc.bvh.bounds(), make, poll, *trained, training);
+    train_guide<M, S>(m, sc.camera, o, sc.bvh.bounds(), int(sc.lights.size()), make, poll, *trained, training);
     guide = std::move(trained);
   }
   const PathTracer<M, S> pt(m, sc, o, {guide && !guide->empty() ? guide.get() : nullptr, false, 0});
