@@ -142,7 +142,7 @@ class PathTracer {
     // Adds the emission the last segment found, beta Le weighted by mis, to L. A training path credits it to
     // the earlier vertices, not to the one whose direction found it: the guide learns the light that arrives
     // indirectly (or through mirrors and glass), the light strategy already finds the lamps. (Learning the
-    // lamps too drew half of the directions to them and made fig10d's error 1.2x larger again:
+    // lamps too drew directions to them and made fig10d's error 1.48x that of no guiding, against 1.22x:
     // benchmarks/README.md, "Path guiding".)
     void add_emission(V3 le) {
       const V3 x = beta * le * mis;
@@ -188,8 +188,9 @@ class PathTracer {
     return camera_.direction_sample(px, py, jx, jy, filter_, weight);
   }
 
-  // The light strategy at diffuse vertex e (pbrt's SampleLd): one light, chosen uniformly, and a direction
-  // to it, its geodesic traced, and what it brings weighted by the balance heuristic against BSDF sampling.
+  // The light strategy at diffuse vertex e (pbrt's SampleLd): one light, chosen evenly or as the guide's leaf
+  // there learnt (ps.select), and a direction to it, its geodesic traced, and what it brings weighted by the
+  // balance heuristic against BSDF sampling.
   // With `lens`, a point on the light and one of its lensed images by the exact lens map
   // (lens_connection.h; ps.lens_v keeps the vertex for the BSDF strategy's pdf); else a direction from the
   // light's pilot-aimed proxy (light_connection.h; `aimed` keeps the proxies for the BSDF strategy's pdf).
