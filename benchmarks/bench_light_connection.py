@@ -8,13 +8,15 @@ rendered with
                     and spherical, in Kerr the Schwarzschild map of the same mass as a proposal),
                     stratified pixel samples, and 8x the samples in the pixels on a directly seen lamp's
                     edge (``edge_samples``),
+* ``lens, unguided`` (fig12 only, whose scene turns path guiding on) the same without path guiding,
+* ``lens, guided``  (the other curved rooms) the same with path guiding (``guide_training=8``),
 * ``images``        (Kerr rooms only) the same with Kerr's Newton-refined image proxies instead of the
                     proposal (``light_connection="images"``: the default before it),
 * ``lens, no edge`` the same with ``edge_samples=1`` (every pixel gets spp samples),
 * ``lens, jitter``  the same with uniform jitter in the pixel (``pixel_sampler="independent"``),
 * ``aimed, jitter`` the renderer before this work: flat-space proxies aimed by pilot geodesics, jitter,
                     spp samples in every pixel,
-* ``brute``         no light connection (BSDF sampling only), stratified pixels and edge samples,
+* ``brute``         no light connection (BSDF sampling only, unguided), stratified pixels and edge samples,
 * ``brute, jitter`` the same with jitter,
 * ``seed``          the seed paper's method: brute force with its fixed-step RK4, jitter, spp everywhere,
 
@@ -56,21 +58,25 @@ from _common import (RESULTS, Reference, add_cluster_options, cluster_render_opt
 
 #: Estimators: name -> render options.
 ESTIMATORS = {
-    "lens": {},
+    "lens": {},  # the scene's defaults (fig12: path guiding, from its [render])
+    "lens, unguided": {"guide_training": 0},
+    "lens, guided": {"guide_training": 8},
     "images": {"light_connection": "images"},
     "lens, no edge": {"edge_samples": 1},
     "lens, jitter": {"pixel_sampler": "independent"},
-    "aimed, jitter": {"light_connection": "aimed", "pixel_sampler": "independent", "edge_samples": 1},
-    "brute": {"light_sampling": False},
-    "brute, jitter": {"light_sampling": False, "pixel_sampler": "independent"},
-    "seed": {"light_sampling": False, "stepper": "rk4", "pixel_sampler": "independent", "edge_samples": 1},
+    "aimed, jitter": {"light_connection": "aimed", "pixel_sampler": "independent", "edge_samples": 1,
+                      "guide_training": 0},
+    "brute": {"light_sampling": False, "guide_training": 0},
+    "brute, jitter": {"light_sampling": False, "pixel_sampler": "independent", "guide_training": 0},
+    "seed": {"light_sampling": False, "stepper": "rk4", "pixel_sampler": "independent", "edge_samples": 1,
+             "guide_training": 0},
 }
 
 #: Rooms: name -> (scene, flat companion).
 ROOMS = {"fig07": False, "fig10d": False, "fig12": False, "fig13": False, "fig07 flat": True}
 
 #: Estimators measured in some rooms only: name -> those rooms (elsewhere they equal another).
-ONLY_IN = {"images": {"fig10d"}}
+ONLY_IN = {"images": {"fig10d"}, "lens, unguided": {"fig12"}, "lens, guided": {"fig07", "fig10d", "fig13"}}
 
 
 def _scene(room: str) -> str:
