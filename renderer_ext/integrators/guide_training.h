@@ -1,9 +1,10 @@
 // Path guiding's training (guide_tree.h): before a render's first sample, iterations of 1, 2, 4, ...,
-// o.guide_training samples at each point of a grid of at most kGuideGridWidth columns over the camera's whole
-// image. Iteration k's paths draw their directions from iteration k - 1's tree (the first: BSDF only) and
-// record, at each diffuse vertex, the direction they left along and what came back, and what each light
-// sample brought (path_tracer.h); the
-// records, in (grid point, sample) order, build iteration k's tree, and the last tree is the render's guide.
+// o.guide_training samples at each point of a grid of at most kGuideGridWidth columns, and at most half the
+// image's, over the camera's whole image (a fixed cost: under 1 % of a 640 x 480 x 16 frame; a thumbnail's
+// grid is coarser so that it stays small there too). Iteration k's paths draw their directions from
+// iteration k - 1's tree (the first: BSDF only) and record, at each diffuse vertex, the direction they left
+// along and what came back, and what each light sample brought (path_tracer.h); the records, in (grid
+// point, sample) order, build iteration k's tree, and the last tree is the render's guide.
 //
 // The training paths draw their own random numbers (a seed derived from the render's and the iteration's),
 // and which paths run depends only on the camera and the options, never on the render's window or range: so
@@ -36,16 +37,16 @@ inline uint64_t guide_seed(uint64_t seed, int k) {
   return z ^ (z >> 31);
 }
 
-// Trains `tree` for camera cam and a scene of `lights` lights. make(prev, seed) gives the iteration's tracer (a pointer-like object whose
-// sample_pixel(px, py, s, film, out, recorded, stats, scheduler) records into out.guide), sampling with tree
-// prev (null: none); poll() false stops the training (the tree is then left empty). Returns the training's
-// segment statistics in `stats`.
+// Trains `tree` for camera cam and a scene of `lights` lights. make(prev, seed) gives the iteration's tracer
+// (a pointer-like object whose sample_pixel(px, py, s, film, out, recorded, stats, scheduler) records into
+// out.guide), sampling with tree prev (null: none); poll() false stops the training (the tree is then left
+// empty). Returns the training's segment statistics in `stats`.
 template <class M, class S, class Make>
 void train_guide(const M& m, const Camera& cam, const RenderOptions& o, const Box& bounds, int lights, const Make& make,
                  const std::function<bool()>& poll, GuideTree& tree, RenderStats& stats) {
   tree = GuideTree();
   if (o.guide_training <= 0) return;
-  const int gw = std::min(cam.width, kGuideGridWidth);
+  const int gw = std::clamp(cam.width / 2, 1, kGuideGridWidth);  // (a thumbnail: a point per 2 x 2 pixels)
   const int gh = std::clamp(int(std::lround(double(gw) * cam.height / cam.width)), 1, cam.height);
   const size_t npts = size_t(gw) * gh;
   Film none;  // (no AOVs: a training sample writes nothing to a film)

@@ -1,6 +1,7 @@
 // Path guiding's learned distribution of incident light, in the spirit of Mueller, Gross and Novak, "Practical
-// Path Guiding" (2017): a binary tree over space, one per sheet, whose leaves each hold a quadtree over the
-// local observer's sky, built from training records (where a path's vertex was, which way its next segment
+// Path Guiding" (2017): a binary tree over space, one per sheet and orientation of the surface (a floor and
+// the wall beside it see different halves of the sky), whose leaves each hold a quadtree over the local
+// observer's sky, built from training records (where a path's vertex was, which way its next segment
 // left in the local frame, how much light came back along it). The directions are the local observer's, so
 // the distribution holds every lensed image of every light and bright surface, whatever the metric.
 //
@@ -9,8 +10,6 @@
 // share of its leaf's energy over its area. A quadrant is divided where it holds more than `rho` of its
 // leaf's energy (and at least two records), so bright, narrow images get small cells. A space node is divided
 // at the middle of its box's longest side while it holds more than `leaf_records` records.
-//
-// Each sheet, and each of six orientations of the surface, has a tree of its own.
 //
 // A tree is built once from one training iteration's records, in their given order (the same records give
 // the same tree, bit for bit, however many threads traced them) and does not change while it is sampled.
@@ -33,9 +32,9 @@
 
 namespace wv {
 
-// One training record: a vertex's user-frame position and sheet, the local direction its path left along,
-// and what came back: radiance over the pdf that drew the direction (an estimate of the incident radiance's
-// integral over any cell holding it, >= 0).
+// One training record: a vertex's user-frame position, sheet and surface normal, the local direction its path
+// left along, and what came back: radiance times the cosine at the surface over the pdf that drew the
+// direction (an estimate of that product's integral over any cell holding it, >= 0).
 struct GuideRecord {
   V3 pos;
   int sheet = 1;
@@ -70,7 +69,8 @@ class GuideTree {
     int lights = 0;           // the scene's lights: each leaf learns how often to choose each one
   };
   // The share of a leaf's light choices spread evenly over the lights, whatever it learnt: a light the
-  // training never saw reach a part of space is still chosen there, 1 / (5 lights) of the time.
+  // training never saw reach a part of space is still chosen there, kEvenLights / (number of lights) of
+  // the time.
   static constexpr double kEvenLights = 0.2;
 
   GuideTree() = default;
@@ -80,7 +80,6 @@ class GuideTree {
   void build(std::vector<GuideRecord> records, const Box& bounds, const Params& p) {
     *this = GuideTree();
     params_ = p;
-    bounds_ = bounds;
     nlights_ = std::max(0, p.lights);
     for (int k = 0; k < kRoots; ++k) {
       auto mid = std::stable_partition(records.begin(), records.end(),
@@ -139,7 +138,8 @@ class GuideTree {
       n.leaf = x[3];
       n.split = a.space_split[i];
       if (n.leaf >= 0) {
-        if (size_t(n.leaf) >= nl || leaf_used[size_t(n.leaf)]) return "a space leaf's index is out of range or repeated";
+        if (size_t(n.leaf) >= nl || leaf_used[size_t(n.leaf)])
+          return "a space leaf's index is out of range or repeated";
         leaf_used[size_t(n.leaf)] = 1;
       } else if (n.axis < 0 || n.axis > 2 || !std::isfinite(n.split) || n.child[0] <= int32_t(i) ||
                  n.child[1] <= int32_t(i) || size_t(n.child[0]) >= ns || size_t(n.child[1]) >= ns) {
@@ -388,7 +388,6 @@ class GuideTree {
 
   static constexpr int kMaxSpaceDepth = 24;
   Params params_;
-  Box bounds_;
   int32_t root_[kRoots] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
   std::vector<SNode> snodes_;
   std::vector<QNode> qnodes_;

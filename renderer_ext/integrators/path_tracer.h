@@ -387,7 +387,8 @@ class PathTracer {
       const bool lens = nee && o_.light_connection != kAimedConnection && lens_.applies(e);
       // A diffuse vertex in a part of space where the guide saw light draws half its directions from it.
       // and chooses its lights as the guide learnt there.
-      const int space = guide_ && mat.kind == MaterialKind::kDiffuse ? guide_->leaf(e.pos, e.sheet, e.surface.normal) : -1;
+      const int space =
+          guide_ && mat.kind == MaterialKind::kDiffuse ? guide_->leaf(e.pos, e.sheet, e.surface.normal) : -1;
       const int leaf = space >= 0 && guide_->has_sky(space) ? space : -1;
       ps.select = space >= 0 ? guide_->light_select(space) : nullptr;
       if (nee) co_await sample_light(e, mat, albedo, n, wo, bounce, lens, leaf, rng, ps, aimed, st, frames, sched);
