@@ -218,14 +218,15 @@ def render(
         metric has one in closed form (Schwarzschild), else the integrator; ``'integrate'`` always steps
         the integrator, the reference the closed form is tested against (docs/architecture.md).
     guide_training : int, optional, keyword-only
-        Path guiding (default 0: off). Before the first sample, training iterations of 1, 2, 4, ... up to
-        ``guide_training`` samples per point of a grid of at most 64 columns over the image learn, over the
-        local observer's sky, from which directions light arrives indirectly at each part of the scene (off
-        lit walls, through mirrors and glass, along every lensed path); half of each diffuse bounce's
-        directions are then drawn from it, combined with BSDF sampling and the light connection by
-        multiple importance sampling, so the image stays unbiased. The same tree for every pass, tile and
-        resumed range (its own random numbers, from ``seed``). Where it helps and where not yet:
-        benchmarks/README.md, "Path guiding".
+        Path guiding (default 0, or the scene's: off). Before the first sample, training iterations of 1,
+        2, 4, ... up to ``guide_training`` samples per point of a grid of at most 64 columns (and half the
+        image's width) over the image learn, over the local observer's sky, from which directions light
+        arrives indirectly at each part of the scene (off lit walls, through mirrors and glass, along every
+        lensed path), and which lights reach it; half of each diffuse bounce's directions and its choice of
+        light are then drawn from what they learnt, combined with BSDF sampling and the light connection
+        by multiple importance sampling, so the image stays unbiased. The same tree for every pass, tile
+        and resumed range (its own random numbers, from ``seed``). Where it helps and where not yet:
+        benchmarks/README.md, "Path guiding" (fig12's scene turns it on).
     batch : bool, optional, keyword-only
         In curved space, step the geodesics of many samples together in SIMD lanes (default True,
         1.5-1.9x faster). The image is bit-identical either way.
