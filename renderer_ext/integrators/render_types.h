@@ -129,7 +129,7 @@ struct RenderResult {
   int num_columns = 0;
   std::vector<RecordedSegment> recorded;
   std::shared_ptr<const GuideTree> guide;  // path guiding's tree (trained here, or the one handed in)
-  int64_t guide_segments = 0;              // segments its training traced (also in `segments`)
+  int64_t guide_segments = 0;              // segments its training traced here (also in `segments`)
 };
 
 }  // namespace wv

@@ -430,7 +430,8 @@ def render(
         progress(total, total)
     stats = {"segments_by_status": {}, "segments": 0, "steps": 0, "seconds": 0.0, "edge_pixels": 0, "detail_pixels": 0,
              "threads": 0, **_plain(done.stats)}  # fmt: skip
-    stats["guide_segments"] = guide_segments
+    stats["guide_segments"] = guide_segments  # (path guiding's training, counted in "segments" too)
+    stats["segments"] += guide_segments
     stats["samples"] = int(resolved["samples_total"])
     stats["samples_with_errors"] = int(resolved["errors_total"])
     error_fraction = stats["samples_with_errors"] / stats["samples"] if stats["samples"] else 0.0
