@@ -206,6 +206,13 @@ def test_a_bad_guide_or_training_option_is_refused_naming_it(monkeypatch):
             real(native, dict(options, guide=broken))
     with pytest.raises(ValueError, match="render option 'guide'"):
         real(native, dict(options, guide={"roots": good["roots"]}))
+    # a tree learnt for another scene's lights
+    calls.clear()
+    wv.render(_lamps_on_both_sheets(), spp=1, guide_training=2)
+    two = calls[-1][1]["guide"]
+    assert two["leaf_lights"].shape[1] == 2
+    with pytest.raises(ValueError, match="render option 'guide' chooses among 2 lights, the scene has 1"):
+        real(native, dict(options, guide=two))
 
 
 def test_each_part_of_space_learns_which_light_to_choose(monkeypatch):

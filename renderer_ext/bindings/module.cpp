@@ -357,7 +357,12 @@ nb::dict render(nb::dict scene, nb::dict options) {
     o.classes.assign(el.data(), el.data() + el.size());
   }
   o.guide_training = option<int>(options, "guide_training");
-  if (options.contains("guide") && !options["guide"].is_none()) o.guide = guide_from(options["guide"]);
+  if (options.contains("guide") && !options["guide"].is_none()) {
+    o.guide = guide_from(options["guide"]);
+    if (o.guide->lights() != 0 && size_t(o.guide->lights()) != sc.lights.size())
+      throw std::invalid_argument("render option 'guide' chooses among " + std::to_string(o.guide->lights()) +
+                                  " lights, the scene has " + std::to_string(sc.lights.size()));
+  }
   o.batch = option<bool>(options, "batch");
   o.threads = option<int>(options, "threads");
   if (options.contains("crop") && !options["crop"].is_none()) {  // None: the whole image

@@ -193,6 +193,7 @@ class GuideTree {
   }
 
   bool empty() const { return leaves_.empty(); }
+  int lights() const { return nlights_; }  // the lights its leaves learnt to choose among (0: none)
   size_t leaf_count() const { return leaves_.size(); }
   size_t cell_count() const { return qnodes_.size(); }
 
