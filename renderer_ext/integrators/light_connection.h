@@ -58,8 +58,6 @@ struct Aim {
   // Light i's aimed proxy (i < kAimedLights, on the vertex's sheet, no image proxies), computed once from
   // from[i], scale[i] and to_local when the aim is done: the light sample and both strategies' pdfs read it.
   LightProxy proxy[kAimedLights];
-  V3 at(size_t i) const { return i < size_t(kAimedLights) ? from[i] : pos; }
-  double scale_of(size_t i) const { return i < size_t(kAimedLights) ? scale[i] : 1.0; }
   int images_of(size_t i) const { return i < size_t(kImageLights) ? images[i] : 0; }
 };
 
