@@ -10,6 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import warpviz as wv
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
 import bench_render  # noqa: E402
@@ -235,6 +237,16 @@ def test_path_guiding_benchmark_quick_mode(tmp_path):
     assert [r["guide_training"] for r in rows] == [0, 2] == [int(r["guide_training"]) for r in
                                                           read_csv(tmp_path / "path_guiding.csv")]
     assert rows[0]["mse_over_off"] == 1.0 and all(r["rel_mse_mean"] > 0 and r["seconds_mean"] > 0 for r in rows)
+
+
+def test_caustics_benchmark_quick_mode_builds_its_reference_in_resumable_pieces(tmp_path):
+    import bench_caustics
+
+    rows = bench_caustics.main(["--quick", "--rooms", "glass_ball", "--out", str(tmp_path), "--ref-chunk", "16"])
+    assert [r["photons"] for r in rows] == [0, 2000] == [int(r["photons"]) for r in read_csv(tmp_path / "caustics.csv")]
+    assert rows[0]["mse_over_base"] == 1.0 and all(r["seconds_mean"] > 0 for r in rows)
+    ref = tmp_path / "caustics-quick-references" / "caustics-glass_ball-16x12-pt-seed1000.exr"
+    assert wv.Image.open(ref).metadata["spp"] == 32  # (two pieces of 16)
 
 
 @pytest.mark.skipif(importlib.util.find_spec("pyoidn") is None,

@@ -23,9 +23,10 @@ def test_one_scene_per_paper_figure():
     stems = [p.stem for p in SHIPPED]
     for fig in FIGURES:
         assert sum(s.startswith(fig + "_") for s in stems) == 1, fig
-    # besides the figures, the peer-comparison scene (benchmarks/) and the library of line-element metrics
-    # (docs/line-element.md)
-    assert sorted(s for s in stems if not s.startswith(("fig", "line_element_"))) == ["mitsuba_cornell"]
+    # besides the figures, the peer-comparison scene (benchmarks/), the library of line-element metrics
+    # (docs/line-element.md) and the caustic scenes (benchmarks/bench_caustics.py)
+    assert sorted(s for s in stems if not s.startswith(("fig", "line_element_", "caustics_"))) == ["mitsuba_cornell"]
+    assert sorted(s for s in stems if s.startswith("caustics_")) == ["caustics_glass_ball", "caustics_glass_ball_hole"]
     assert len([s for s in stems if s.startswith("line_element_")]) >= 4
 
 

@@ -154,6 +154,15 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  "and its choice of light are then drawn from what the last iteration learnt (still unbiased); "
                  "0 turns it off.", lo=0, hi=256,
                  flag="--guide-training"),  # fmt: skip
+    RenderOption("photons", "int", 0, "Caustics by photons: photons traced from the lights through mirrors and "
+                 "glass for every sample index (a photon pass), gathered where a camera path first meets a diffuse "
+                 "surface (progressive photon mapping: the gather radius shrinks pass by pass, so the image "
+                 "converges); the path tracer leaves those paths to them. Static spacetimes only (flat, "
+                 "Schwarzschild, Reissner-Nordstrom, Ellis); 0 turns it off.", lo=0, hi=10**8,
+                 flag="--photons"),  # fmt: skip
+    RenderOption("photon_radius", "real", 2.0, "Caustics by photons: the first photon pass's gather radius, in "
+                 "pixels' footprints at the gather point (the camera path's length there times a pixel's "
+                 "angle); later passes shrink it.", lo=0.0, hi=1e4, lo_open=True),  # fmt: skip
     RenderOption("filter", "choice", "box", "Pixel reconstruction filter, by importance sampling of each "
                  "camera sample's offset.", choices=tuple(FILTER_RADII)),  # fmt: skip
     RenderOption("filter_radius", "real", None, "Half-width of the filter's support in pixels.", lo=0.0,

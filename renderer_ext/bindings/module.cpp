@@ -357,6 +357,8 @@ nb::dict render(nb::dict scene, nb::dict options) {
     o.classes.assign(el.data(), el.data() + el.size());
   }
   o.guide_training = option<int>(options, "guide_training");
+  o.photons = option<int64_t>(options, "photons");
+  o.photon_radius = option<double>(options, "photon_radius");
   if (options.contains("guide") && !options["guide"].is_none()) {
     o.guide = guide_from(options["guide"]);
     if (o.guide->lights() != 0 && size_t(o.guide->lights()) != sc.lights.size())
@@ -433,6 +435,9 @@ nb::dict render(nb::dict scene, nb::dict options) {
   stats["edge_pixels"] = r.edge_pixels;
   stats["detail_pixels"] = r.detail_pixels;
   stats["guide_segments"] = r.guide_segments;
+  stats["photon_segments"] = r.photon_segments;
+  stats["photon_passes"] = r.photon_passes;
+  stats["photons_stored"] = r.photons_stored;
   stats["steps"] = r.total_steps;
   stats["seconds"] = seconds;
   stats["threads"] = wv::resolve_threads(o.threads);

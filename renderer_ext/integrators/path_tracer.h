@@ -31,6 +31,7 @@
 //   light_connection.h  the light strategy's proxies, aimed by pilot geodesics (Kerr: image proxies)
 //   guide_tree.h        path guiding's learned distribution over space and the local sky
 //   guide_training.h    its training iterations
+//   photon_tracer.h     photons from the lights through mirrors and glass (caustics), photon_map.h their search
 #pragma once
 
 #include <algorithm>
@@ -40,6 +41,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "core/rng.h"
@@ -55,6 +57,8 @@
 #include "integrators/guide_tree.h"
 #include "integrators/lens_connection.h"
 #include "integrators/light_connection.h"
+#include "integrators/photon_map.h"
+#include "integrators/photon_tracer.h"
 #include "integrators/render_loop.h"
 #include "integrators/render_types.h"
 #include "integrators/sample_scheduler.h"
@@ -83,10 +87,18 @@ class PathTracer {
   // The share of a guided vertex's directions the tree draws (the rest: the BSDF), as Mueller et al.
   static constexpr double kGuideShare = 0.5;
 
-  PathTracer(const M& m, const Scene& sc, const RenderOptions& o, Guiding g = {})
+  // Caustics by photons (photon_tracer.h): the tracer that says which lights send photons, and the current
+  // photon pass (its map and radius, replaced between the render loop's sub-passes); null: none.
+  struct Caustics {
+    const PhotonTracer<M, S>* tracer = nullptr;
+    const PhotonPass* pass = nullptr;
+  };
+
+  PathTracer(const M& m, const Scene& sc, const RenderOptions& o, Guiding g = {}, Caustics c = {})
       : sc_(sc), o_(o), camera_(m, sc.camera), filter_(o.filter, o.filter_radius), segments_(m, sc, o), lights_(m, sc, o, segments_.options()),
         emission_(m, sc), lens_(m, sc, o.lens_images, o.light_connection == kLensConnection), guide_(g.tree),
-        train_(g.train), seed_(g.train ? g.seed : o.seed) {}
+        train_(g.train), seed_(g.train ? g.seed : o.seed), caustics_(c),
+        pixel_angle_(2.0 * std::tan(sc.camera.fov * M_PI / 360.0) / std::max(1, sc.camera.height)) {}
 
   // One light path while it is traced: what it has gathered (L, its throughput beta), the BSDF strategy's
   // pending weight, the lens vertex whose pdf the next segment settles, and the bookkeeping around each
@@ -285,6 +297,30 @@ class PathTracer {
     if (r.light_value > 0.0 && std::isfinite(r.light_value)) ps.guide->lights.push_back(r);
   }
 
+  // The caustic radiance leaving diffuse vertex e towards wo, from the current photon pass (photon_map.h):
+  // the flux of the photons within r of it, on the side wo leaves from, that reached it in at most
+  // `segments` segments (the path's own budget), over the gather disk's proper area pi r^2 J, times
+  // albedo / pi. r is o.photon_radius pixels' footprint at the camera path's length to here, shrunk by the
+  // pass's factor.
+  V3 gather_photons(const SegmentEnd& e, V3 albedo, V3 wo, double path_length, int segments) const {
+    const PhotonPass& pass = *caustics_.pass;
+    const double r = o_.photon_radius * pixel_angle_ * path_length * std::sqrt(pass.r2_factor);
+    if (!(r > 0.0) || pass.map.size() == 0 || segments < 2) return {0, 0, 0};
+    const V3 side = dot(wo, e.normal_local) >= 0.0 ? e.surface.normal : -e.surface.normal;
+    V3 flux{0, 0, 0};
+    pass.map.for_each_near(e.pos, e.sheet, r, [&](const Photon& p) {
+      if (p.segments <= segments && dot(p.n_in, side) > 0.5) flux += p.power;
+    });
+    if (!(max_component(flux) > 0.0)) return {0, 0, 0};
+    double J = 1.0;  // proper area over user-frame area of the surface here
+    if constexpr (!M::kFlat) {
+      V3 t, b;
+      basis_around(e.surface.normal, t, b);
+      J = length(cross(e.to_local(t), e.to_local(b)));
+    }
+    return albedo * flux / (M_PI * M_PI * r * r * J);
+  }
+
   // The solid-angle pdf of a guided vertex's direction strategy (the guide's share drawn from leaf `leaf`,
   // the rest from the BSDF, whose pdf is pb) at local direction w.
   double guided_pdf(int leaf, V3 w, double pb) const {
@@ -346,12 +382,17 @@ class PathTracer {
     V3 L_sharp{0, 0, 0};  // ps.L up to and at the first non-specular hit (the emission AOV)
     bool sharp = !film.emission_sum.empty();
     Aim aimed;  // the light proxies of the path's last diffuse vertex (aimed connection)
+    // Caustics by photons: every diffuse vertex gathers them, so the path tracer leaves out the emission of a
+    // photon light reached from the last diffuse vertex through specular vertices only (`specular`).
+    bool gathered = false, specular = false;
+    double path_length = 0.0;  // user-frame distance along the path (vertex to vertex): the gather's footprint
 
     for (int bounce = 0; bounce < o_.max_depth; ++bounce) {
       Track* track = ps.open();
       SegmentEnd e;
       co_await segments_.segment(x, sheet, d, skip, track, st, frames, sched, e);
       ps.close(e, sheet, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
+      if (caustics_.pass && e.status == kHit) path_length += length(e.pos - x);
       if (bounce == 0) {
         e.energy *= energy0;
         g_camera = e.energy > 0.0 ? 1.0 / e.energy : 0.0;
@@ -368,10 +409,12 @@ class PathTracer {
         const double pl = lights_.lights_pdf(aimed, ps.aimed_w, ps.select);
         ps.mis = ps.aimed_pb / (ps.aimed_pb + pl);
       }
-      ps.add_emission(Le);
+      if (!(gathered && specular && e.status == kHit && caustics_.tracer->sends_photons(e.prim)))
+        ps.add_emission(Le);  // (else a caustic path: the photons')
       if (sharp) L_sharp = ps.L;
       if (e.status != kHit) break;
       const Material& mat = sc_.materials[sc_.prims[e.prim].material];
+      specular = mat.is_delta();
       if (!mat.is_delta()) {  // the first non-specular hit ends the emission AOV and gives the features
         sharp = false;
         if (!features_done) {
@@ -383,6 +426,10 @@ class PathTracer {
       if (mat.kind == MaterialKind::kEmissive || bounce + 1 >= o_.max_depth) break;
       const SurfacePoint& sp = e.surface;
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
+      if (caustics_.pass && mat.kind == MaterialKind::kDiffuse) {
+        ps.add(ps.beta * gather_photons(e, albedo, wo, path_length, o_.max_depth - (bounce + 1)));
+        gathered = true;
+      }
       const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
       const bool lens = nee && o_.light_connection != kAimedConnection && lens_.applies(e);
       // A diffuse vertex in a part of space where the guide saw light draws half its directions from it.
@@ -582,6 +629,8 @@ class PathTracer {
   const GuideTree* guide_;  // path guiding's tree, or null
   bool train_;              // a training iteration's tracer: its paths record for the next tree
   uint64_t seed_;           // the seed of every random number (the render's, or the training iteration's)
+  Caustics caustics_;       // photons for caustics, or none
+  double pixel_angle_;      // a pixel's height as an angle (radians, at the image's centre)
 };
 
 // Renders scene sc through metric M with stepper S (engine/register.h).
@@ -604,7 +653,35 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
     train_guide<M, S>(m, sc.camera, o, sc.bvh.bounds(), int(sc.lights.size()), make, poll, *trained, training);
     guide = std::move(trained);
   }
-  const PathTracer<M, S> pt(m, sc, o, {guide && !guide->empty() ? guide.get() : nullptr, false, 0});
+  // Caustics by photons: a photon pass per sample index, built by the render loop before the samples that
+  // gather from it (render_loop.h).
+  std::unique_ptr<PhotonTracer<M, S>> photons;
+  PhotonPass pass;
+  RenderStats photon_stats;
+  int64_t photon_passes = 0, photons_stored = 0;
+  std::function<bool(int64_t)> photon_pass;
+  if (o.photons > 0) {
+    if (!PhotonTracer<M, S>::kApplies)
+      throw std::invalid_argument("render option 'photons': caustics by photons need a static spacetime (flat, "
+                                  "Schwarzschild, Reissner-Nordstrom, Ellis); this one is not");
+    photons = std::make_unique<PhotonTracer<M, S>>(m, sc, o);
+    if (photons->any_light()) {
+      photon_pass = [&, built = int64_t(-1)](int64_t j) mutable {
+        if (j == built) return true;
+        const std::function<bool()> poll = o.poll ? std::function<bool()>([&o] { return o.poll(0, 1); })
+                                                  : std::function<bool()>();
+        if (!photons->pass(j, poll, pass.map, photon_stats)) return false;
+        pass.r2_factor = photon_radius_factor(j);
+        built = j;
+        ++photon_passes;
+        photons_stored += int64_t(pass.map.size());
+        return true;
+      };
+    }
+  }
+  typename PathTracer<M, S>::Caustics caustics;
+  if (photon_pass) caustics = {photons.get(), &pass};
+  const PathTracer<M, S> pt(m, sc, o, {guide && !guide->empty() ? guide.get() : nullptr, false, 0}, caustics);
   auto sample = [&pt](int px, int py, int s, Film& film, SampleOut& out, bool recorded, RenderStats& st,
                       SampleScheduler<M, S>* sched) {
     return pt.sample_pixel(px, py, s, film, out, recorded, st, sched);
@@ -612,11 +689,14 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
   auto probe = [&pt](double x, double y, RenderStats& st, SampleScheduler<M, S>* sched, ProbeHit& hit) {
     return pt.probe(x, y, st, sched, hit);
   };
-  RenderResult r = render_passes<M, S>(m, sc.camera, o, sample, probe, emitters);
+  RenderResult r = render_passes<M, S>(m, sc.camera, o, sample, probe, emitters, photon_pass);
   r.guide = guide;
   r.guide_segments = training.segments;
-  r.segments += training.segments;
-  r.total_steps += training.steps;
+  r.segments += training.segments + photon_stats.segments;
+  r.total_steps += training.steps + photon_stats.steps;
+  r.photon_segments = photon_stats.segments;
+  r.photon_passes = photon_passes;
+  r.photons_stored = photons_stored;
   return r;
 }
 

@@ -123,9 +123,16 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
 // s of image pixel (px, py) as a Task (PathTracer::sample_pixel), run by run_samples; probe_lights: something
 // emits, so a light has edges to probe for. A pixel's samples do not depend on the window, so windows of an
 // image tile it exactly.
+//
+// With photon_pass (caustics by photons, photon_tracer.h), each sample gathers from a photon pass: sample s of
+// a pixel given k x spp samples from photon pass floor(s / k), so the main pixels' samples [B, B1) and each
+// group's [k B, k B1) use the passes [B, B1) (an edge or detail pixel's samples are all in its group's passes,
+// the first range's too). The loop then goes photon pass by photon pass, photon_pass(j) making pass j current
+// before the samples that use it (false: cancelled); a pixel's samples still come in sample order.
 template <class M, class S, class Sample, class Probe>
 RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o, const Sample& sample,
-                           const Probe& probe, bool probe_lights) {
+                           const Probe& probe, bool probe_lights,
+                           const std::function<bool(int64_t)>& photon_pass = {}) {
   RenderResult out;
   const bool whole = o.crop[2] <= 0 || o.crop[3] <= 0;
   const int X0 = whole ? 0 : o.crop[0], Y0 = whole ? 0 : o.crop[1];
@@ -201,7 +208,7 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
   // everyone's, so an interrupted first range is a whole image); later, only the others, an edge or detail
   // pixel's range [k B, k B1) being all in its own passes.
   std::vector<size_t> main_pixels;
-  const bool all_main = B == 0 || classes.empty();
+  const bool all_main = (B == 0 && !photon_pass) || classes.empty();
   if (!all_main) {
     main_pixels.reserve(npix - classes.size());
     for (size_t p = 0, e = 0; p < npix; ++p) {
@@ -217,22 +224,38 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
   struct Pass {
     int64_t s0, s1;
     const std::vector<size_t>* pixels;  // a group's, or null: the main pixels
+    int64_t k;                          // the pixels' multiple of spp
   };
   std::vector<Pass> passes;
   for (int64_t s0 = B, n = 1; s0 < B1; s0 += n, n = std::min<int64_t>(2 * n, 64))
-    passes.push_back({s0, std::min(B1, s0 + n), nullptr});
+    passes.push_back({s0, std::min(B1, s0 + n), nullptr, 1});
   for (const Group& g : groups) {
     if (g.pixels.empty()) continue;
-    const int64_t s0 = B == 0 ? B1 : g.k * B, s1 = g.k * B1;  // the group's own samples
+    const int64_t s0 = B == 0 && !photon_pass ? B1 : g.k * B, s1 = g.k * B1;  // the group's own samples
     total += int64_t(g.pixels.size()) * (s1 - s0);
     for (int64_t s = s0, n = std::min<int64_t>(o.spp, 64); s < s1; s += n, n = std::min<int64_t>(2 * n, 64))
-      passes.push_back({s, std::min(s1, s + n), &g.pixels});
+      passes.push_back({s, std::min(s1, s + n), &g.pixels, g.k});
   }
   std::atomic<int64_t> counts[6];
   for (int k = 0; k < 6; ++k) counts[k] = probes.counts[k];
   std::atomic<int64_t> steps{probes.steps}, segments{probes.segments};
   constexpr size_t kChunk = 64;  // pixels per parallel task
-  for (const auto& pass : passes) {
+  // With photons, the passes go photon pass by photon pass instead: pass j's main samples, then each group's.
+  std::vector<Pass> runs;
+  if (photon_pass) {
+    for (int64_t j = B; j < B1; ++j) {
+      runs.push_back({j, j + 1, nullptr, 1});
+      for (const Group& g : groups)
+        if (!g.pixels.empty()) runs.push_back({g.k * j, g.k * (j + 1), &g.pixels, g.k});
+    }
+  } else {
+    runs = passes;
+  }
+  for (const auto& pass : runs) {
+    if (photon_pass && !photon_pass(pass.s0 / pass.k)) {
+      out.completed = false;
+      break;
+    }
     const size_t nwork = pass.pixels ? pass.pixels->size() : nmain;
     const size_t nchunks = (nwork + kChunk - 1) / kChunk;
     auto body = [&](size_t c) {

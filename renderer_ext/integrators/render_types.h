@@ -68,6 +68,10 @@ struct RenderOptions {
   int guide_training = 0;
   // The tree an earlier range of the same render trained (RenderResult::guide): used instead of training.
   std::shared_ptr<const GuideTree> guide;
+  // Caustics by photons (photon_tracer.h): photons traced from the lights per photon pass (one per sample
+  // index; 0: off), and the first pass's gather radius in pixels' footprints at the gather point.
+  int64_t photons = 0;
+  double photon_radius = 0.0;
   int filter = kBoxFilter;     // pixel reconstruction filter (film/pixel_filter.h), by importance sampling
   double filter_radius = 0.0;  // its support's half-width in pixels
   bool batch = false;      // curved space: step the geodesics of many samples together in SIMD lanes
@@ -130,6 +134,9 @@ struct RenderResult {
   std::vector<RecordedSegment> recorded;
   std::shared_ptr<const GuideTree> guide;  // path guiding's tree (trained here, or the one handed in)
   int64_t guide_segments = 0;              // segments its training traced here (also in `segments`)
+  int64_t photon_segments = 0;             // segments the photons traced (also in `segments`)
+  int64_t photon_passes = 0;               // photon passes traced
+  int64_t photons_stored = 0;              // photons stored, over all passes
 };
 
 }  // namespace wv

@@ -191,7 +191,8 @@ class PassesDone:
     noise: float = math.nan
 
 
-def add_stats(total: dict, add: dict, *, summed: tuple[str, ...] = ("seconds", "segments", "steps")) -> dict:
+def add_stats(total: dict, add: dict, *, summed: tuple[str, ...] = ("seconds", "segments", "steps", "photon_segments",
+                                                                     "photon_passes", "photons_stored")) -> dict:
     """The core's statistics of two ranges (two passes, or two tiles of one pass) as one: the ``summed`` keys
     and nested counts added, the others (threads, edge and detail pixels of the same window) taken from ``add``."""
     out = dict(total)

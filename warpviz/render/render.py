@@ -97,6 +97,8 @@ def render(
     chord_tolerance: float | None = None,
     segment_method: str | None = None,
     guide_training: int | None = None,
+    photons: int | None = None,
+    photon_radius: float | None = None,
     aovs=None,
     crop=None,
     progress: Callable[[int, int], object] | None = None,
@@ -227,6 +229,18 @@ def render(
         by multiple importance sampling, so the image stays unbiased. The same tree for every pass, tile
         and resumed range (its own random numbers, from ``seed``). Where it helps and where not yet:
         benchmarks/README.md, "Path guiding" (fig12's scene turns it on).
+    photons : int, optional, keyword-only
+        Caustics by photons (default 0, or the scene's: off): for every sample index a photon pass of this
+        many photons leaves the lights (by power, by area, cosine-weighted) as null geodesics, through
+        mirrors and glass, and is stored where it first reaches a diffuse surface; each camera path gathers
+        the pass of its sample at its first diffuse vertex, and the path tracer leaves those paths (a light
+        reached from there through mirrors and glass only) to the photons. The gather radius shrinks pass by
+        pass (probabilistic progressive photon mapping), so the image converges to the path tracer's as the
+        samples grow (biased at any finite count: a caustic is slightly blurred). Static spacetimes only
+        (flat, Schwarzschild, Reissner-Nordstrom, Ellis). A pass depends only on (seed, sample index): the
+        same image on any threads, tiles and ranges.
+    photon_radius : float, optional, keyword-only
+        The first photon pass's gather radius in pixels' footprints at the gather point (default 2.0).
     batch : bool, optional, keyword-only
         In curved space, step the geodesics of many samples together in SIMD lanes (default True,
         1.5-1.9x faster). The image is bit-identical either way.
@@ -309,7 +323,8 @@ def render(
                  "filter_radius": filter_radius, "light_margin": light_margin, "pilot_tol": pilot_tol,
                  "batch": batch, "rr_depth": rr_depth, "max_steps": max_steps, "escape_radius": escape_radius,
                  "max_drift": max_drift, "chord_tolerance": chord_tolerance,
-                 "segment_method": segment_method, "guide_training": guide_training}  # fmt: skip
+                 "segment_method": segment_method, "guide_training": guide_training, "photons": photons,
+                 "photon_radius": photon_radius}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:
             options[key] = value
@@ -367,6 +382,9 @@ def render(
     options["record_pixels"] = _record_pixels(record_pixels, (x0, y0, cw, ch), (w, h))
     metric = _metric(native["metric"])  # validates the parameters with the metric's own messages
     metric.prepare(stepper=options["stepper"])  # a metric from its line element: its renderer, compiled once
+    if options["photons"] > 0 and not metric.is_static:
+        raise ValueError(f"photons: caustics by photons need a static spacetime (flat, Schwarzschild, "
+                         f"Reissner-Nordstrom, Ellis); {metric.name} is not (set photons = 0)")
     settings = resume_settings(options, native)
     digest = scene_sha256(native)
     start = PassesDone(film=None, spp=0, passes=0)

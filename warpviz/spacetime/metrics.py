@@ -206,6 +206,13 @@ class Metric:
         return bool(_entry(self.name)["flat"])
 
     @property
+    def is_static(self) -> bool:
+        """Flat, or static and spherically symmetric: light's spatial path is the same traced forward or
+        backward in time (what photons from the lights need)."""
+        entry = _entry(self.name)
+        return bool(entry["flat"] or entry["static_spherical"])
+
+    @property
     def sheets(self) -> int:
         """Sheets the user sees as separate Cartesian frames (2 for a wormhole)."""
         return int(_entry(self.name)["sheets"])

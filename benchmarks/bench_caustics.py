@@ -1,0 +1,115 @@
+"""Caustics by photons (``photons``) against the path tracer alone: error at equal samples and efficiency.
+
+Each caustic room renders at a thumbnail's size with ``spp`` samples, every core, for several seeds, with the
+path tracer alone (``photons = 0``) and with each photon count. Reported: the mean relative MSE over the
+seeds against the path tracer's converged image (its own noise subtracted, ``_common.Reference``), the mean
+wall time and efficiency = 1 / (relative MSE x time), over the path tracer's. Photon mapping is biased (a
+caustic is blurred by the gather radius, which shrinks pass by pass): its error here is measured against the
+same unbiased reference, so the bias is in it.
+
+The reference (two halves of ``--ref-spp`` / 2 path-traced samples, independent seeds) is built in pieces of
+``--ref-chunk`` samples, each written to ``--cache`` as an EXR and resumed from there, so an interrupted
+build goes on where it stopped (``--ref-only`` builds it and stops).
+
+    python benchmarks/bench_caustics.py                          # glass ball, flat and with the hole
+    python benchmarks/bench_caustics.py --rooms glass_ball --photons 0,5000,20000 --seeds 6
+    python benchmarks/bench_caustics.py --ref-only --rooms glass_ball_hole   # the reference only (resumable)
+    python benchmarks/bench_caustics.py --quick                  # seconds (tests)
+
+Writes ``caustics.csv`` to ``--out`` (default benchmarks/results).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import warpviz as wv
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import RESULTS, Reference, machine_line, write_csv  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = {"glass_ball": ROOT / "scenes" / "caustics_glass_ball.toml",
+          "glass_ball_hole": ROOT / "scenes" / "caustics_glass_ball_hole.toml"}  # fmt: skip
+
+
+def reference_half(room: str, w: int, h: int, spp: int, seed: int, cache: Path, chunk: int) -> np.ndarray:
+    """One half of the room's path-traced reference: rendered (or resumed from the cache) up to spp samples in
+    pieces of ``chunk``, each piece written to the cache before the next."""
+    cache.mkdir(parents=True, exist_ok=True)
+    path = cache / f"caustics-{room}-{w}x{h}-pt-seed{seed}.exr"
+    img = wv.Image.open(path) if path.is_file() else None
+    done = int(img.metadata["spp"]) if img is not None else 0
+    while done < spp:
+        step = min(spp, done + chunk)
+        t0 = time.perf_counter()
+        img = wv.render(str(SCENES[room]), width=w, height=h, spp=step, seed=seed, photons=0, edge_samples=1,
+                        detail_samples=1, progress=None, **({"resume": img} if img is not None else {}))  # fmt: skip
+        img.save(path)
+        done = step
+        print(f"  reference {room} seed {seed}: {done}/{spp} spp ({time.perf_counter() - t0:.0f} s)", flush=True)
+    if done > spp:
+        print(f"  reference {room} seed {seed}: the cache holds {done} spp (more than {spp}): used as it is")
+    return img.rgb
+
+
+def main(argv=None) -> list[dict]:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--rooms", default="glass_ball,glass_ball_hole", help="comma-separated subset of " + ", ".join(SCENES))
+    p.add_argument("--photons", default="0,20000", help="photon counts per pass (0: the path tracer, the baseline)")
+    p.add_argument("--seeds", type=int, default=4)
+    p.add_argument("--spp", type=int, default=16)
+    p.add_argument("--size", default="64x48")
+    p.add_argument("--cache", type=Path, default=ROOT / "build" / "bench-references")
+    p.add_argument("--ref-spp", type=int, default=8192, help="path-traced samples per pixel of the reference")
+    p.add_argument("--ref-chunk", type=int, default=512, help="samples per resumable piece of the reference")
+    p.add_argument("--ref-only", action="store_true", help="build (or finish) the references and stop")
+    p.add_argument("--quick", action="store_true", help="tiny frames, tiny references (seconds)")
+    p.add_argument("--out", type=Path, default=RESULTS)
+    args = p.parse_args(argv)
+    w, h = (int(v) for v in args.size.split("x"))
+    counts = [int(s) for s in args.photons.split(",")]
+    seeds, spp, ref_spp, cache = args.seeds, args.spp, args.ref_spp, args.cache
+    if args.quick:
+        w, h, seeds, spp, counts, ref_spp = 16, 12, 2, 4, [0, 2000], 64
+        cache = args.out / "caustics-quick-references"
+    print(machine_line(threads=0))
+    rows = []
+    for room in args.rooms.split(","):
+        halves = [reference_half(room, w, h, ref_spp // 2, 1000 + k, cache, args.ref_chunk) for k in (0, 1)]
+        if args.ref_only:
+            continue
+        ref = Reference(halves[0], halves[1], ref_spp // 2)
+        for n in counts:
+            errs, secs = [], []
+            for s in range(seeds):
+                t0 = time.perf_counter()
+                img = wv.render(str(SCENES[room]), width=w, height=h, spp=spp, seed=1 + s, photons=n, aovs=[],
+                                progress=None)  # fmt: skip
+                secs.append(time.perf_counter() - t0)
+                errs.append(ref.rel_mse(img.rgb)[0])
+            rows.append({"room": room, "size": f"{w}x{h}", "spp": spp, "photons": n, "seeds": seeds,
+                         "rel_mse_mean": float(np.mean(errs)), "rel_mse_min": float(np.min(errs)),
+                         "rel_mse_max": float(np.max(errs)), "reference_noise": ref.noise,
+                         "seconds_mean": float(np.mean(secs)),
+                         "efficiency": 1.0 / (float(np.mean(errs)) * float(np.mean(secs)))})  # fmt: skip
+        base = next(r for r in rows if r["room"] == room and r["photons"] == counts[0])
+        for r in rows:
+            if r["room"] == room:
+                r["mse_over_base"] = r["rel_mse_mean"] / base["rel_mse_mean"]
+                r["efficiency_over_base"] = r["efficiency"] / base["efficiency"]
+    for r in rows:
+        print(f"{r['room']:16s} photons {r['photons']:>7d}: rel MSE {r['rel_mse_mean']:.3e} "
+              f"({r['mse_over_base']:.3f}x), {r['seconds_mean']:.2f} s, efficiency {r['efficiency_over_base']:.2f}x")
+    if rows:
+        write_csv(args.out / "caustics.csv", rows)
+    return rows
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,215 @@
+// Photons for caustics (photon_map.h): light paths that leave the lights as null geodesics, traced segment by
+// segment by the camera paths' own segment tracer (segment.h: closed-form orbits, integrated steps, SIMD
+// lanes), through mirrors and glass, and stored where they first reach a diffuse surface after at least one
+// specular vertex (light -> specular+ -> diffuse: the caustic paths, which the path tracer finds only when
+// a BSDF direction happens to hit a light after a specular chain). Only static metrics (flat space,
+// Schwarzschild, Reissner-Nordstrom, Ellis): there the spatial path of light is the same traced either way in
+// time, so a backward segment along the emitted direction is the photon's path.
+//
+// A photon's flux is what the path tracer's measurement gives the same path: a light chosen by its power, a
+// point on it by area, a direction cosine-weighted about its normal in the local static frame there, so
+//   flux = Le pi A J_L sides / (P(light) N),
+// A the light's user-frame area, J_L = dA_proper / dA_user at the point (the local frame's map), N the pass's
+// photons. The path tracer keeps radiance along a geodesic (a lamp that does not beam); the product
+// cos dOmega dA of a ray bundle is not kept in curved space but nu^2 cos dOmega dA is (the photons in phase
+// space), so the flux a photon brings to a surface whose static observer sees its frequency shifted by g
+// (nu_surface / nu_light) is the emitted one times g^-2. The camera side (path_tracer.h) divides by the
+// proper area pi r^2 J_S of its gather disk. Beaming emitters send no photons; the path tracer keeps their
+// caustics.
+//
+// Photon i of pass j draws its random numbers from Rng(photon_seed(seed), j, i), and a pass's photons are
+// stored in photon order: a pass is a function of (seed, j) alone, whatever the threads.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "core/parallel.h"
+#include "core/rng.h"
+#include "core/task.h"
+#include "core/vec3.h"
+#include "integrators/chart_geometry.h"
+#include "integrators/photon_map.h"
+#include "integrators/render_types.h"
+#include "integrators/sample_scheduler.h"
+#include "integrators/segment.h"
+#include "scene/light.h"
+#include "scene/material.h"
+#include "scene/scene.h"
+
+namespace wv {
+
+// The seed of the photons' random numbers (a 64-bit mix of the render's).
+inline uint64_t photon_seed(uint64_t seed) { return mix64(seed ^ 0x3c6ef372fe94f82bull); }
+
+template <class M, class S>
+class PhotonTracer {
+ public:
+  using Scheduler = SampleScheduler<M, S>;
+  static constexpr bool kApplies = M::kFlat || M::kStaticSpherical;
+
+  PhotonTracer(const M& m, const Scene& sc, const RenderOptions& o) : m_(m), sc_(sc), o_(o), segments_(m, sc, o), geo_(m) {
+    emits_.assign(sc.prims.size(), 0);
+    double total = 0.0;
+    for (const int p : sc.lights) {
+      const double w = power(p);
+      if (!(w > 0.0)) continue;
+      emits_[p] = 1;
+      lights_.push_back(p);
+      cdf_.push_back(total += w);
+    }
+    for (double& c : cdf_) c /= total;
+  }
+
+  // Whether prim p sends photons (a light that does not beam): the caustics its light makes on diffuse
+  // surfaces are the photons', so the path tracer leaves them out.
+  bool sends_photons(int p) const { return p >= 0 && size_t(p) < emits_.size() && emits_[p]; }
+  bool any_light() const { return !lights_.empty(); }
+
+  // Pass j's photon map: o.photons photons traced in parallel, stored in photon order. False: cancelled.
+  bool pass(int64_t j, const std::function<bool()>& poll, PhotonMap& map, RenderStats& stats) const {
+    const size_t n = size_t(std::max<int64_t>(0, o_.photons));
+    constexpr size_t kChunk = 256;  // photons per parallel task
+    const size_t nchunks = (n + kChunk - 1) / kChunk;
+    std::vector<std::vector<Photon>> stored(nchunks);
+    std::vector<RenderStats> chunk_stats(nchunks);
+    const uint64_t seed = photon_seed(o_.seed);
+    auto body = [&](size_t c) {
+      const size_t i0 = c * kChunk, i1 = std::min(n, i0 + kChunk);
+      std::vector<Photon> out(i1 - i0);
+      std::vector<char> hit(i1 - i0, 0);
+      auto make = [&](size_t k, Scheduler* sched) {
+        return trace(seed, j, int64_t(i0 + k), double(n), chunk_stats[c], sched, out[k], hit[k]);
+      };
+      run_samples<M, S>(m_, o_.batch, i1 - i0, make);
+      for (size_t k = 0; k < out.size(); ++k)
+        if (hit[k]) stored[c].push_back(out[k]);
+    };
+    if (lights_.empty() || n == 0) {
+      map = PhotonMap();
+      return true;
+    }
+    if (!parallel_for(nchunks, o_.threads, 1, body, poll)) return false;
+    std::vector<Photon> all;
+    for (auto& s : stored) all.insert(all.end(), s.begin(), s.end());
+    for (const RenderStats& st : chunk_stats) {
+      stats.segments += st.segments;
+      stats.steps += st.steps;
+    }
+    map = PhotonMap(std::move(all));
+    return true;
+  }
+
+ private:
+  // A light's power up to a constant (its choice probability): area x radiance scale x sides.
+  double power(int p) const {
+    const Prim& pr = sc_.prims[p];
+    const Material& mat = sc_.materials[pr.material];
+    if (mat.beaming || mat.keplerian) return 0.0;
+    double area = 0.0;
+    if (pr.kind == PrimKind::kSphere) {
+      area = 2.0 * kTwoPi * sc_.spheres[pr.index].radius * sc_.spheres[pr.index].radius;
+    } else {
+      LightPoint lp;
+      if (!sample_light_point(sc_, p, {0, 0, 0}, 0.5, 0.5, lp)) return 0.0;
+      area = lp.area;
+    }
+    const double scale = mat.kind == MaterialKind::kEmissive ? mat.strength : max_component(mat.emission);
+    const double sides = mat.kind == MaterialKind::kEmissive && mat.two_sided ? 2.0 : 1.0;
+    const double w = area * scale * sides;
+    return std::isfinite(w) && w > 0.0 ? w : 0.0;
+  }
+
+  // Photon i of pass j (n photons in the pass): into `out`, with `stored` set, if it reaches a diffuse surface
+  // after at least one specular vertex within o.max_depth segments.
+  Task<void> trace(uint64_t seed, int64_t j, int64_t i, double n, RenderStats& st, Scheduler* sched, Photon& out,
+                   char& stored) const {
+    Rng rng(seed, uint64_t(j), uint64_t(i));
+    // The light, by its power.
+    const double ul = rng.uniform();
+    const size_t li = std::min(lights_.size() - 1,
+                               size_t(std::upper_bound(cdf_.begin(), cdf_.end(), ul) - cdf_.begin()));
+    const double p_light = cdf_[li] - (li > 0 ? cdf_[li - 1] : 0.0);
+    const int p = lights_[li];
+    const Prim& pr = sc_.prims[p];
+    const Material& mat = sc_.materials[pr.material];
+    // A point on it by area, and the side it leaves from.
+    const double u1 = rng.uniform(), u2 = rng.uniform(), us = rng.uniform();
+    LightPoint lp;
+    if (pr.kind == PrimKind::kSphere) {  // the whole sphere
+      const Sphere& s = sc_.spheres[pr.index];
+      const double z = 1.0 - 2.0 * u1, rxy = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = kTwoPi * u2;
+      lp.normal = {rxy * std::cos(phi), rxy * std::sin(phi), z};
+      lp.pos = s.center + lp.normal * s.radius;
+      lp.area = 2.0 * kTwoPi * s.radius * s.radius;
+    } else if (!sample_light_point(sc_, p, {0, 0, 0}, u1, u2, lp)) {
+      co_return;
+    }
+    const bool two = mat.kind == MaterialKind::kEmissive && mat.two_sided;
+    const V3 n_out = two && us < 0.5 ? -lp.normal : lp.normal;  // the side the photon leaves from
+    const SurfacePoint sp = sc_.surface(p, lp.pos);
+    V3 nl = sp.normal, nl_out = n_out;  // local frame: the surface's normal and the side's
+    double J = 1.0;
+    if constexpr (!M::kFlat) {
+      const StartFrames::Entry f = geo_.start_frame(lp.pos, pr.sheet);
+      if (!f.ok) co_return;
+      nl = geo_.local_normal(f.x4, f.f, sp.normal);
+      nl_out = dot(n_out, sp.normal) >= 0.0 ? nl : -nl;
+      const LinearMap L = geo_.local_map(f.x4, f.f);
+      V3 t, b;
+      basis_around(sp.normal, t, b);
+      J = length(cross(L(t), L(b)));
+    }
+    const V3 w = cosine_direction(nl_out, rng.uniform(), rng.uniform());
+    const V3 Le = sc_.emitted(p, sp, nl, w);
+    V3 power = Le * (M_PI * lp.area * J * (two ? 2.0 : 1.0) / (p_light * n));
+    if (!(max_component(power) > 0.0)) co_return;
+    PathFrames<M> frames;
+    V3 x = offset(lp.pos, sp.normal, nl, w), d = w;
+    int sheet = pr.sheet, skip = p, specular = 0;
+    double g = 1.0;  // nu at the segment's end over nu at the light
+    for (int k = 0; k < o_.max_depth; ++k) {
+      SegmentEnd e;
+      co_await segments_.segment(x, sheet, d, skip, nullptr, st, frames, sched, e);
+      if (e.status != kHit) co_return;
+      if constexpr (!M::kFlat) g *= e.energy;
+      const Material& hm = sc_.materials[sc_.prims[e.prim].material];
+      if (hm.kind == MaterialKind::kDiffuse) {
+        if (specular == 0) co_return;  // direct light: the path tracer's
+        const V3 wo = -e.dir;          // towards where the photon came from
+        out.pos = e.pos;
+        out.n_in = dot(wo, e.normal_local) >= 0.0 ? e.surface.normal : -e.surface.normal;
+        out.power = power / (g * g);
+        out.sheet = e.sheet;
+        out.segments = k + 1;
+        stored = finite(out.power) ? 1 : 0;
+        co_return;
+      }
+      if (!hm.is_delta()) co_return;  // an emitter absorbs
+      const double v1 = rng.uniform(), v2 = rng.uniform(), v3 = rng.uniform();
+      const BsdfSample bs = bsdf_sample(hm, {1, 1, 1}, e.normal_local, -e.dir, v1, v2, v3);
+      if (!bs.valid) co_return;
+      power *= bs.weight;
+      if (!(max_component(power) > 0.0)) co_return;
+      ++specular;
+      x = offset(e.pos, e.surface.normal, e.normal_local, bs.wi);
+      d = bs.wi;
+      sheet = e.sheet;
+      skip = e.prim;
+    }
+  }
+
+  const M& m_;
+  const Scene& sc_;
+  const RenderOptions& o_;
+  SegmentTracer<M, S> segments_;
+  ChartGeometry<M> geo_;
+  std::vector<char> emits_;   // per prim: sends photons
+  std::vector<int> lights_;   // the prims that send photons
+  std::vector<double> cdf_;   // their choice by power, cumulative
+};
+
+}  // namespace wv

@@ -1,0 +1,139 @@
+"""Caustics by photons (renderer_ext/integrators/photon_tracer.h, photon_map.h): photon passes from the lights
+through mirrors and glass, gathered at a camera path's first diffuse vertex, in place of the path tracer's
+caustic paths. The image converges to the path tracer's (the statistical test, with the bias falling as the
+radius shrinks), in flat space and in Schwarzschild (where the photons' flux takes the proper areas and the
+frequency shift between the lamp and the floor), and a pass depends only on (seed, sample index)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import warpviz as wv
+from native_scenes import metric
+from test_render import _image_means, assert_same_mean
+
+
+def mirror_lamp(metric_spec=None, *, size=(16, 12), shift=(0.0, 0.0, 0.0)) -> dict:
+    """A lamp that shines only upwards (one-sided), into a mirror that sends its light down onto a floor: all
+    the floor's light is a caustic (light -> mirror -> diffuse). Black sky, nothing else."""
+    sx, sy, sz = shift
+    return {
+        "metric": metric_spec or metric(),
+        "camera": {"position": [sx, sy - 3.2, sz + 1.4], "look_at": [sx, sy, sz], "up": [0, 0, 1], "fov": 60,
+                   "width": size[0], "height": size[1]},
+        "textures": [{"type": "constant", "color": [0.8, 0.8, 0.8]}, {"type": "constant", "color": [1, 1, 1]}],
+        "materials": [
+            {"type": "diffuse", "texture": 0},
+            {"type": "mirror", "reflectance": [0.9, 0.9, 0.9]},
+            {"type": "emissive", "texture": 1, "strength": 6.0},
+        ],
+        "shapes": [
+            {"type": "quad", "corner": [sx - 2, sy - 2, sz], "edge_u": [4, 0, 0], "edge_v": [0, 4, 0], "material": 0},
+            {"type": "quad", "corner": [sx - 1.5, sy - 1.5, sz + 2], "edge_u": [0, 3, 0], "edge_v": [3, 0, 0],
+             "material": 1},
+            {"type": "quad", "corner": [sx - 0.4, sy - 0.4, sz + 1], "edge_u": [0.8, 0, 0], "edge_v": [0, 0.8, 0],
+             "material": 2},
+        ],
+        "environment": {"color": [0, 0, 0]},
+    }
+
+
+def glass_ball(metric_spec=None, *, size=(16, 12)) -> dict:
+    """A lamp above and behind a glass ball over a floor: the ball (focal length 0.75 from its centre) focuses
+    the lamp into a bright spot on the floor in front of it, near (0, -0.6, 0)."""
+    sc = mirror_lamp(metric_spec, size=size)
+    sc["materials"][1] = {"type": "glass", "ior": 1.5, "tint": [1, 1, 1]}
+    sc["shapes"][1] = {"type": "sphere", "center": [0, 0, 0.9], "radius": 0.5, "material": 1}
+    sc["shapes"][2] = {"type": "quad", "corner": [-0.3, 1.3, 2.4], "edge_u": [0.6, 0, 0], "edge_v": [0, -0.6, 0],
+                       "material": 2}
+    return sc
+
+
+def test_a_caustic_off_a_mirror_converges_to_the_path_tracers():
+    sc = mirror_lamp()
+    one = wv.render(sc, spp=2, seed=0, max_depth=4, photons=2000)
+    assert one.stats["photon_passes"] == 2 and one.stats["photons_stored"] > 1000
+    assert 0 < one.stats["photon_segments"] < one.stats["segments"]
+    plain = wv.render(sc, spp=2, seed=0, max_depth=4)
+    assert not np.array_equal(one.rgb, plain.rgb)
+    # (photon_radius 0.5: a thumbnail's pixel is a fifth of the floor, and the gather disk leaks light off its
+    # edges, a bias that shrinks with the radius: -3 % at 2 pixels and 64 samples, -1.3 % at half a pixel)
+    photons = _image_means(sc, range(6), spp=16, max_depth=4, photons=4000, photon_radius=0.5)
+    traced = _image_means(sc, range(6, 12), spp=64, max_depth=4)
+    assert photons.mean() > 0.01
+    assert_same_mean(photons, traced, slack=0.02 * traced.mean())
+    assert photons.var() < traced.var()  # and far less noise for fewer samples
+
+
+def test_a_glass_ball_s_caustic_converges_to_the_path_tracers():
+    sc = glass_ball()
+    photons = _image_means(sc, range(6), spp=16, max_depth=6, photons=4000, photon_radius=1.0)
+    traced = _image_means(sc, range(6, 12), spp=64, max_depth=6)
+    assert_same_mean(photons, traced, slack=0.02 * traced.mean())
+
+
+def test_the_bias_falls_as_the_radius_shrinks():
+    # A first radius of 8 pixels blurs the ball's focus (row 13, columns 15-16: 10-50x the floor's brightness)
+    # over its neighbours and beyond; the passes' radii shrink, and the light round the focus gathers back
+    # towards the path tracer's.
+    sc = glass_ball(size=(32, 24))
+    window = np.s_[12:16, 12:20]
+    traced = wv.render(sc, spp=256, seed=1, max_depth=6).rgb.mean(axis=2)[window].sum()
+    one = wv.render(sc, spp=1, seed=1, max_depth=6, photons=20000, photon_radius=8.0).rgb.mean(axis=2)
+    many = wv.render(sc, spp=64, seed=1, max_depth=6, photons=20000, photon_radius=8.0).rgb.mean(axis=2)
+    assert one[window].sum() < 0.6 * traced  # (the first pass spreads it out of the window)
+    assert abs(many[window].sum() - traced) < 0.3 * abs(one[window].sum() - traced)
+    assert many[13, 15] > 3 * one[13, 15]
+
+
+def test_in_schwarzschild_the_photons_flux_takes_proper_areas_and_the_shift():
+    # The floor 0.9 above a hole of M = 0.2 (capture radius 0.6), the lamp at 1.9, the mirror at 2.9: the
+    # lamp's light reaches the floor's middle blueshifted (g = 1.19, so g^-2 = 0.7 on its flux), areas off
+    # the radial direction are stretched, and the hole focuses: the image is 1.6x the flat one's. The photon
+    # estimate agrees with the path tracer's only with all of it accounted.
+    sc = mirror_lamp(metric("schwarzschild", 0.2), shift=(0.0, 0.0, 0.9))
+    photons = _image_means(sc, range(6), spp=16, max_depth=4, photons=3000, photon_radius=0.5)
+    traced = _image_means(sc, range(6, 12), spp=128, max_depth=4)
+    flat = _image_means(mirror_lamp(shift=(0.0, 0.0, 0.9)), range(2), spp=16, max_depth=4, photons=3000,
+                        photon_radius=0.5)  # fmt: skip
+    assert photons.mean() > 1.4 * flat.mean()
+    assert_same_mean(photons, traced, slack=0.02 * traced.mean())
+
+
+def test_a_photon_render_is_the_same_on_any_number_of_threads_and_resumed():
+    sc = glass_ball()
+    a = wv.render(sc, spp=4, seed=3, threads=1, max_depth=6, photons=1000)
+    b = wv.render(sc, spp=4, seed=3, threads=2, max_depth=6, photons=1000)
+    np.testing.assert_array_equal(a.rgb, b.rgb)
+    half = wv.render(sc, spp=2, seed=3, threads=2, max_depth=6, photons=1000)
+    resumed = wv.render(sc, spp=4, seed=3, threads=2, max_depth=6, photons=1000, resume=half)
+    np.testing.assert_allclose(resumed.rgb, a.rgb, rtol=1e-6, atol=1e-7)
+    with pytest.raises(ValueError, match="photons"):
+        wv.render(sc, spp=4, seed=3, max_depth=6, photons=2000, resume=half)  # other photons: another render
+
+
+def test_windows_tile_a_photon_render_exactly():
+    sc = glass_ball()
+    whole = wv.render(sc, spp=2, seed=4, max_depth=6, photons=1000, edge_samples=4, detail_samples=2)
+    left = wv.render(sc, spp=2, seed=4, max_depth=6, photons=1000, edge_samples=4, detail_samples=2,
+                     crop=(0, 0, 8, 12))
+    np.testing.assert_array_equal(whole.rgb[:, :8], left.rgb)
+
+
+def test_photons_off_is_the_render_before_bit_for_bit():
+    sc = glass_ball()
+    a = wv.render(sc, spp=2, seed=5, max_depth=6)
+    b = wv.render(sc, spp=2, seed=5, max_depth=6, photons=0)
+    np.testing.assert_array_equal(a.rgb, b.rgb)
+    assert a.stats["photon_segments"] == 0 and a.stats["photon_passes"] == 0
+
+
+def test_photons_in_a_spacetime_that_is_not_static_are_refused_before_any_work():
+    sc = glass_ball(metric("kerr", 0.1, 0.5))
+    with pytest.raises(ValueError, match="photons.*static.*kerr"):
+        wv.render(sc, spp=1, photons=100)
+    with pytest.raises(ValueError, match="photons"):
+        wv.render(glass_ball(), spp=1, photons=-1)
+    with pytest.raises(ValueError, match="photon_radius"):
+        wv.render(glass_ball(), spp=1, photons=10, photon_radius=0.0)
