@@ -303,3 +303,13 @@ def test_console_script_is_declared():
     pyproject = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())
     assert pyproject["project"]["scripts"]["warpviz"] == "warpviz.cli:main"
     assert callable(cli.main)
+
+
+def test_render_with_photons_and_photons_refused_in_kerr(tmp_path):
+    out = tmp_path / "caustic.png"
+    result = invoke("render", "caustics_glass_ball", "--size", "16x12", "--spp", "2", "--photons", "500", "-o", out)
+    assert result.exit_code == 0, result.output
+    assert out.is_file()
+    kerr = tmp_path / "kerr.png"
+    result = invoke("render", "fig10d", "--size", "16x12", "--spp", "1", "--photons", "500", "-o", kerr)
+    assert result.exit_code == 2 and "static" in result.output and not kerr.exists()

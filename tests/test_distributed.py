@@ -68,6 +68,16 @@ def test_a_guided_render_on_two_workers_is_the_local_one(cluster2):
     assert_same_image(img, local)
 
 
+def test_a_photon_render_on_two_workers_is_the_local_one(cluster2):
+    """Each tile traces the same photon passes (a function of the seed and the sample index): the local image."""
+    _, client = cluster2
+    scene = "caustics_glass_ball_hole"
+    local = wv.render(scene, width=24, height=18, progress=None, spp=2, threads=2, photons=500)
+    img = wv.render(scene, width=24, height=18, progress=None, spp=2, client=client, tile=8, photons=500)
+    assert img.stats["photon_segments"] > 0
+    assert_same_image(img, local)
+
+
 def test_one_worker_and_a_curved_wormhole_room_also(local_fig07):
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cl, \
             distributed.Client(cl) as client:  # fmt: skip

@@ -113,6 +113,14 @@ def test_a_photon_render_is_the_same_on_any_number_of_threads_and_resumed():
         wv.render(sc, spp=4, seed=3, max_depth=6, photons=2000, resume=half)  # other photons: another render
 
 
+def test_a_photon_render_with_a_time_budget_is_a_render_of_the_samples_it_reached():
+    sc = glass_ball()
+    budget = wv.render(sc, time_limit=0.5, seed=6, max_depth=6, photons=1000)
+    spp = int(budget.metadata["spp"])
+    assert spp >= 1 and budget.stats["photon_passes"] == spp
+    np.testing.assert_array_equal(budget.rgb, wv.render(sc, spp=spp, seed=6, max_depth=6, photons=1000).rgb)
+
+
 def test_windows_tile_a_photon_render_exactly():
     sc = glass_ball()
     whole = wv.render(sc, spp=2, seed=4, max_depth=6, photons=1000, edge_samples=4, detail_samples=2)
