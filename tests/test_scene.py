@@ -26,7 +26,8 @@ def test_one_scene_per_paper_figure():
     # besides the figures, the peer-comparison scene (benchmarks/), the library of line-element metrics
     # (docs/line-element.md) and the caustic scenes (benchmarks/bench_caustics.py)
     assert sorted(s for s in stems if not s.startswith(("fig", "line_element_", "caustics_"))) == ["mitsuba_cornell"]
-    assert sorted(s for s in stems if s.startswith("caustics_")) == ["caustics_glass_ball", "caustics_glass_ball_hole"]
+    assert sorted(s for s in stems if s.startswith("caustics_")) == ["caustics_glass_ball", "caustics_glass_ball_hole",
+                                                                    "caustics_gravitational_focus"]
     assert len([s for s in stems if s.startswith("line_element_")]) >= 4
 
 
@@ -36,7 +37,14 @@ def _check_vec(v, n=3):
 
 def check_native(native: dict) -> None:
     """Assert that ``native`` has exactly the structure of docs/native-scene.md, every key written."""
-    assert set(native) == {"metric", "camera", "textures", "materials", "shapes", "environment", "environment_other"}
+    assert set(native) == {"metric", "camera", "textures", "materials", "shapes", "lights", "environment",
+                           "environment_other"}
+    for li in native["lights"]:
+        assert li["type"] in ("point", "spot") and li["sheet"] in (1, -1) and li["intensity"] >= 0
+        _check_vec(li["position"]), _check_vec(li["color"])
+        if li["type"] == "spot":
+            _check_vec(li["direction"])
+            assert 0 < li["angle"] <= 180 and 0 <= li["falloff"] <= li["angle"]
     registry = {m["name"]: m["params"] for m in wv.registered_metrics()}
     metric = native["metric"]
     assert metric["name"] in registry and len(metric["params"]) == len(registry[metric["name"]])

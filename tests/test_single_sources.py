@@ -85,6 +85,8 @@ def _scene_of_every_kind() -> dict:
                    {"type": "disk", "center": [0, 0, -1], "outer_radius": 3, "material": 3},
                    {"type": "mesh", "vertices": np.eye(3), "faces": np.array([[0, 1, 2]], dtype=np.int32),
                     "uvs": np.zeros((3, 2)), "material": 2}],
+        "lights": [{"type": "point", "position": [0, 0, 2], "intensity": 1.0},
+                   {"type": "spot", "position": [0, 0, 2], "intensity": 1.0, "direction": [0, 0, -1]}],
         "environment": {"image": image, "spots": [spot],
                         "stars": {"density": 10.0, "brightness": 1.0, "size": 0.01, "seed": 1}},
         "environment_other": {"spots": [spot]},

@@ -361,7 +361,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.photon_radius = option<double>(options, "photon_radius");
   if (options.contains("guide") && !options["guide"].is_none()) {
     o.guide = guide_from(options["guide"]);
-    if (o.guide->lights() != 0 && size_t(o.guide->lights()) != sc.lights.size())
+    if (o.guide->lights() != 0 && o.guide->lights() != sc.light_count())
       throw std::invalid_argument("render option 'guide' chooses among " + std::to_string(o.guide->lights()) +
                                   " lights, the scene has " + std::to_string(sc.lights.size()));
   }

@@ -334,6 +334,27 @@ void scene_from_dict(const nb::dict& d, Scene& sc) {
       throw std::invalid_argument("native scene: " + w + ".type: unknown shape type '" + ty + "'");
     }
   }
+  // Point and spot lights: no shape, so no ray hits one; the light strategy and the photons reach them.
+  const nb::list pll = list(d, "lights", "scene");
+  for (size_t i = 0; i < nb::len(pll); ++i) {
+    const std::string w = "lights[" + std::to_string(i) + "]";
+    const nb::dict t = entry(pll, i, w);
+    const std::string ty = text(t, "type", w);
+    PointLight pl;
+    pl.pos = vec3(t, "position", w);
+    pl.sheet = int(integer(t, "sheet", w));
+    pl.intensity = vec3(t, "color", w) * number(t, "intensity", w);
+    if (ty == "spot") {
+      pl.spot = true;
+      pl.axis = normalize(vec3(t, "direction", w));
+      const double outer = number(t, "angle", w) * M_PI / 180.0, soft = number(t, "falloff", w) * M_PI / 180.0;
+      pl.cos_outer = std::cos(outer);
+      pl.cos_inner = std::cos(std::max(0.0, outer - soft));
+    } else if (ty != "point") {
+      throw std::invalid_argument("native scene: " + w + ".type: unknown light type '" + ty + "'");
+    }
+    sc.point_lights.push_back(pl);
+  }
   // The skies of sheet +1 and (a wormhole's) sheet -1; Python writes the same table twice for one sky.
   environment_from(table(d, "environment", "scene"), "environment", sc.environment);
   environment_from(table(d, "environment_other", "scene"), "environment_other", sc.environment_other);

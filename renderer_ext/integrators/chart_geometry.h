@@ -7,8 +7,11 @@
 #include <cmath>
 #include <type_traits>
 
+#include <vector>
+
 #include "core/vec3.h"
 #include "scene/light.h"
+#include "scene/scene.h"
 #include "spacetime/frame.h"
 
 namespace wv {
@@ -128,5 +131,34 @@ class ChartGeometry {
  private:
   const M& m_;
 };
+
+// The local static frame at a point light: the map of user-frame displacements into it and the spot's axis
+// there (ok false: the light is not in the chart or has no static observer, and sends nothing).
+struct PointLightFrame {
+  bool ok = false;
+  LinearMap to_local;
+  V3 axis_local{0, 0, 1};
+};
+
+template <class M>
+std::vector<PointLightFrame> point_light_frames(const M& m, const Scene& sc) {
+  std::vector<PointLightFrame> out(sc.point_lights.size());
+  const ChartGeometry<M> geo(m);
+  for (size_t k = 0; k < out.size(); ++k) {
+    const PointLight& pl = sc.point_lights[k];
+    PointLightFrame& f = out[k];
+    if constexpr (M::kFlat) {
+      f.ok = true;
+      f.axis_local = pl.axis;
+    } else {
+      const StartFrames::Entry s = geo.start_frame(pl.pos, pl.sheet);
+      f.ok = s.ok;
+      if (!f.ok) continue;
+      f.to_local = geo.local_map(s.x4, s.f);
+      f.axis_local = normalize(f.to_local(pl.axis));
+    }
+  }
+  return out;
+}
 
 }  // namespace wv

@@ -217,6 +217,9 @@ class LensConnection {
     }
   }
 
+  const SphericalLens& lens() const { return lens_; }
+  int orders() const { return orders_; }
+
   // Whether the connection applies at vertex e (else the aimed proxies do): the metric is static and
   // spherical and e lies outside the innermost sphere its lens map covers (by 5 %); or the proxy's
   // connection is a proposal here and e lies outside 1.3 times the proxy's photon sphere (where Kerr's
@@ -280,7 +283,7 @@ class LensConnection {
     }
     LightPoint lp;
     if (!light_point_at(sc_, p, v.pos, x, lp)) return 0.0;
-    const double p_light = sel ? sel[it - sc_.lights.begin()] : 1.0 / double(sc_.lights.size());
+    const double p_light = sel ? sel[it - sc_.lights.begin()] : 1.0 / double(sc_.light_count());
     return lens_pdf(lens_, v, w, light(p, lp), orders_, p_light);
   }
 

@@ -107,7 +107,7 @@ class LightConnection {
         s += chosen * light_pdf(i < size_t(kAimedLights) ? a.proxy[i] : light_proxy(sc_, l, a.pos, a.to_local), w);
       }
     }
-    return sel ? s : s / double(sc_.lights.size());
+    return sel ? s : s / double(sc_.light_count());  // (point lights: chosen, never hit)
   }
 
   // A local direction towards light number li from its image proxies (u3 picks the image) or its aimed

@@ -97,7 +97,7 @@ class PathTracer {
   PathTracer(const M& m, const Scene& sc, const RenderOptions& o, Guiding g = {}, Caustics c = {})
       : sc_(sc), o_(o), camera_(m, sc.camera), filter_(o.filter, o.filter_radius), segments_(m, sc, o), lights_(m, sc, o, segments_.options()),
         emission_(m, sc), lens_(m, sc, o.lens_images, o.light_connection == kLensConnection), guide_(g.tree),
-        train_(g.train), seed_(g.train ? g.seed : o.seed), caustics_(c),
+        train_(g.train), seed_(g.train ? g.seed : o.seed), caustics_(c), point_frames_(point_light_frames(m, sc)),
         pixel_angle_(2.0 * std::tan(sc.camera.fov * M_PI / 360.0) / std::max(1, sc.camera.height)) {}
 
   // One light path while it is traced: what it has gathered (L, its throughput beta), the BSDF strategy's
@@ -218,6 +218,10 @@ class PathTracer {
       double u3, per;
       const int li = choose_light(ps.select, rng, u3, per);
       const double u1 = rng.uniform(), u2 = rng.uniform();
+      if (li >= int(sc_.lights.size())) {
+        co_await sample_point_light(e, mat, albedo, n, wo, bounce, li, per, u3, ps, st, frames, sched);
+        co_return;
+      }
       V3 wl, target;
       double pl;
       if (!lens_.sample(ps.lens_v, li, u1, u2, u3, wl, pl, target, per)) co_return;
@@ -238,6 +242,10 @@ class PathTracer {
     double u3, per;  // (u3: the image, where a light has several)
     const int li = choose_light(ps.select, rng, u3, per);
     const double u1 = rng.uniform(), u2 = rng.uniform();
+    if (li >= int(sc_.lights.size())) {
+      co_await sample_point_light(e, mat, albedo, n, wo, bounce, li, per, u3, ps, st, frames, sched);
+      co_return;
+    }
     V3 wl;
     if (!lights_.sample(aimed, e, li, u1, u2, u3, wl)) co_return;
     double pb;
@@ -253,11 +261,100 @@ class PathTracer {
     add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
   }
 
+  // The light strategy towards point light li - (area lights) of the scene (chosen with probability 1 / per)
+  // from diffuse vertex e. A point light is never hit, so its light comes from this strategy alone, without
+  // multiple importance sampling. In flat space: its one direction, I cos / d^2 if nothing is in the way. In a
+  // static spherical metric: its lensed images of order < lens_images by the exact lens map (lens_connection.h),
+  // one drawn by u in proportion to what it brings; an image brings the irradiance I / |dA_perp / dOmega_A|,
+  // the area at the light across the ray (proper, in the light's local frame) per solid angle at the vertex,
+  // from the map's Jacobian. It counts if the geodesic traced from the light along that image's direction
+  // first meets this vertex (a surface in between: in its shadow). Where the lens map does not reach (within
+  // 1.05 x its innermost sphere) a point light sends nothing to the vertex (docs/architecture.md).
+  Task<void> sample_point_light(const SegmentEnd& e, const Material& mat, const V3& albedo, const V3& n,
+                                const V3& wo, int bounce, int li, double per, double u, PathState& ps,
+                                RenderStats& st, PathFrames<M>& frames, Scheduler* sched) const {
+    const int k = li - int(sc_.lights.size());
+    const PointLight& pl = sc_.point_lights[size_t(k)];
+    const PointLightFrame& pf = point_frames_[size_t(k)];
+    if (!pf.ok) co_return;
+    if constexpr (M::kFlat) {
+      (void)u;
+      if (pl.sheet != e.sheet) co_return;
+      const V3 dv = pl.pos - e.pos;
+      const double d2 = dot(dv, dv);
+      if (!(d2 > 0.0)) co_return;
+      const V3 w = dv / std::sqrt(d2);
+      double pb;
+      const V3 f = bsdf_eval(mat, albedo, n, wo, w, pb);
+      const double share = pl.profile(-dot(w, pf.axis_local));
+      if (!(max_component(f) > 0.0 && share > 0.0)) co_return;
+      Track* track = ps.open();
+      SegmentEnd le;
+      const V3 x0 = offset(e.pos, e.surface.normal, n, w);
+      co_await segments_.segment(x0, e.sheet, w, e.prim, track, st, frames, sched, le);
+      ps.close(le, e.sheet, bounce + 1, kLightSegment);
+      if (le.status == kHit && dot(le.pos - x0, le.pos - x0) < d2) co_return;  // in its shadow
+      add_light(ps, e, li, ps.beta * f * pl.intensity * (share * per / d2));
+    } else if constexpr (M::kStaticSpherical) {
+      (void)frames;
+      if (!lens_.applies(e)) co_return;
+      LensLight b;
+      b.pos = pl.pos;
+      b.sheet = pl.sheet;
+      const LensImageRays rays = lens_image_rays(lens_.lens(), lens_vertex(e), b, lens_.orders());
+      V3 brings[LensImages::kMax], q[LensImages::kMax];
+      double weight[LensImages::kMax], total = 0.0;
+      for (int i = 0; i < rays.n; ++i) {
+        const LensImageRay& ir = rays.ray[i];
+        weight[i] = 0.0;
+        double pb;
+        const V3 f = bsdf_eval(mat, albedo, n, wo, ir.w, pb);
+        const double spsi = std::sin(ir.r.psi);
+        if (!(max_component(f) > 0.0 && spsi > 0.0 && std::isfinite(ir.r.dphi_dpsi))) continue;
+        // |dA_B / dOmega_A| across the ray in the user frame, then the light's local frame's area across it.
+        const V3 t = ir.t_arr;
+        const double jac = rays.RB * rays.RB * std::fabs(std::sin(ir.r.phi)) * std::fabs(ir.r.dphi_dpsi) *
+                           std::fabs(dot(t, rays.xb)) / spsi;
+        V3 t1, t2;
+        basis_around(t, t1, t2);
+        q[i] = normalize(pf.to_local(-t));  // the direction the light leaves along, in its local frame
+        const double across = std::fabs(dot(q[i], cross(pf.to_local(t1), pf.to_local(t2))));
+        const double E = pl.profile(dot(q[i], pf.axis_local)) / (jac * across);
+        if (!(E > 0.0 && std::isfinite(E))) continue;
+        brings[i] = f * pl.intensity * E;
+        weight[i] = (brings[i].x + brings[i].y + brings[i].z) / 3.0;
+        total += weight[i];
+      }
+      if (!(total > 0.0)) co_return;
+      int i = rays.n - 1;
+      double acc = 0.0;
+      for (int j = 0; j < rays.n; ++j) {
+        acc += weight[j];
+        if (weight[j] > 0.0 && u * total < acc) {
+          i = j;
+          break;
+        }
+      }
+      if (!(weight[i] > 0.0)) co_return;
+      Track* track = ps.open();
+      SegmentEnd le;
+      PathFrames<M> from_light;
+      co_await segments_.segment(pl.pos, pl.sheet, q[i], -1, track, st, from_light, sched, le);
+      ps.close(le, pl.sheet, bounce + 1, kLightSegment);
+      if (!(le.status == kHit && le.prim == e.prim && length(le.pos - e.pos) <= 1e-4 * (1.0 + length(e.pos))))
+        co_return;  // in its shadow
+      add_light(ps, e, li, ps.beta * brings[i] * (total / weight[i] * per));
+    } else {  // (refused before any work: render.py)
+      (void)e, (void)mat, (void)albedo, (void)n, (void)wo, (void)bounce, (void)per, (void)u, (void)ps, (void)st;
+      (void)frames, (void)sched, (void)pl;
+    }
+  }
+
   // A light from the scene's list for a light sample: evenly (sel null; as before guiding, bit for bit) or by
   // a guide leaf's probabilities sel; u3 what is left of the uniform number (the image's choice), `per` the
   // reciprocal of the light's probability.
   int choose_light(const double* sel, Rng& rng, double& u3, double& per) const {
-    const int nl = int(sc_.lights.size());
+    const int nl = sc_.light_count();
     if (!sel) {
       const double ul = rng.uniform() * double(nl);
       const int li = std::min(nl - 1, int(ul));
@@ -430,7 +527,7 @@ class PathTracer {
         ps.add(ps.beta * gather_photons(e, albedo, wo, path_length, o_.max_depth - (bounce + 1)));
         gathered = true;
       }
-      const bool nee = o_.light_sampling && !mat.is_delta() && !sc_.lights.empty();
+      const bool nee = o_.light_sampling && !mat.is_delta() && sc_.light_count() > 0;
       const bool lens = nee && o_.light_connection != kAimedConnection && lens_.applies(e);
       // A diffuse vertex in a part of space where the guide saw light draws half its directions from it.
       // and chooses its lights as the guide learnt there.
@@ -630,6 +727,7 @@ class PathTracer {
   bool train_;              // a training iteration's tracer: its paths record for the next tree
   uint64_t seed_;           // the seed of every random number (the render's, or the training iteration's)
   Caustics caustics_;       // photons for caustics, or none
+  std::vector<PointLightFrame> point_frames_;  // the local frame at each point light
   double pixel_angle_;      // a pixel's height as an angle (radians, at the image's centre)
 };
 
@@ -642,7 +740,7 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
   // Path guiding: the tree an earlier range trained, or trained here before the first sample (guide_training.h).
   std::shared_ptr<const GuideTree> guide = o.guide;
   RenderStats training;
-  if (!guide && o.guide_training > 0 && emitters) {
+  if (!guide && o.guide_training > 0 && (emitters || !sc.point_lights.empty())) {
     using Tracer = PathTracer<M, S>;
     auto make = [&](const GuideTree* prev, uint64_t seed) {
       return std::make_unique<Tracer>(m, sc, o, typename Tracer::Guiding{prev, true, seed});
@@ -650,7 +748,7 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
     const std::function<bool()> poll = o.poll ? std::function<bool()>([&o] { return o.poll(0, 1); })
                                               : std::function<bool()>();
     auto trained = std::make_shared<GuideTree>();
-    train_guide<M, S>(m, sc.camera, o, sc.bvh.bounds(), int(sc.lights.size()), make, poll, *trained, training);
+    train_guide<M, S>(m, sc.camera, o, sc.bvh.bounds(), sc.light_count(), make, poll, *trained, training);
     guide = std::move(trained);
   }
   // Caustics by photons: a photon pass per sample index, built by the render loop before the samples that

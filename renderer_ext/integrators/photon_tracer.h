@@ -51,7 +51,8 @@ class PhotonTracer {
   using Scheduler = SampleScheduler<M, S>;
   static constexpr bool kApplies = M::kFlat || M::kStaticSpherical;
 
-  PhotonTracer(const M& m, const Scene& sc, const RenderOptions& o) : m_(m), sc_(sc), o_(o), segments_(m, sc, o), geo_(m) {
+  PhotonTracer(const M& m, const Scene& sc, const RenderOptions& o)
+      : m_(m), sc_(sc), o_(o), segments_(m, sc, o), geo_(m), point_frames_(point_light_frames(m, sc)) {
     emits_.assign(sc.prims.size(), 0);
     double total = 0.0;
     for (const int p : sc.lights) {
@@ -59,6 +60,13 @@ class PhotonTracer {
       if (!(w > 0.0)) continue;
       emits_[p] = 1;
       lights_.push_back(p);
+      cdf_.push_back(total += w);
+    }
+    for (size_t k = 0; k < sc.point_lights.size(); ++k) {  // (point light k as -1 - k)
+      const PointLight& pl = sc.point_lights[k];
+      const double w = (pl.intensity.x + pl.intensity.y + pl.intensity.z) / 3.0 * pl.solid_angle();
+      if (!(w > 0.0 && std::isfinite(w)) || !point_frames_[k].ok) continue;
+      lights_.push_back(-1 - int(k));
       cdf_.push_back(total += w);
     }
     for (double& c : cdf_) c /= total;
@@ -134,6 +142,19 @@ class PhotonTracer {
                                size_t(std::upper_bound(cdf_.begin(), cdf_.end(), ul) - cdf_.begin()));
     const double p_light = cdf_[li] - (li > 0 ? cdf_[li - 1] : 0.0);
     const int p = lights_[li];
+    if (p < 0) {  // a point or spot light: a direction uniform in its sky or its cone, in its local frame
+      const PointLight& pl = sc_.point_lights[size_t(-1 - p)];
+      const PointLightFrame& pf = point_frames_[size_t(-1 - p)];
+      const double c = 1.0 - rng.uniform() * (1.0 - (pl.spot ? pl.cos_outer : -1.0)), phi = kTwoPi * rng.uniform();
+      const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
+      V3 t, b;
+      basis_around(pf.axis_local, t, b);
+      const V3 w = pf.axis_local * c + t * (s * std::cos(phi)) + b * (s * std::sin(phi));
+      const V3 power = pl.intensity * (pl.profile(c) * pl.solid_angle() / (p_light * n));
+      if (!(max_component(power) > 0.0)) co_return;
+      co_await follow(pl.pos, pl.sheet, w, -1, power, rng, st, sched, out, stored);
+      co_return;
+    }
     const Prim& pr = sc_.prims[p];
     const Material& mat = sc_.materials[pr.material];
     // A point on it by area, and the side it leaves from.
@@ -165,11 +186,17 @@ class PhotonTracer {
     }
     const V3 w = cosine_direction(nl_out, rng.uniform(), rng.uniform());
     const V3 Le = sc_.emitted(p, sp, nl, w);
-    V3 power = Le * (M_PI * lp.area * J * (two ? 2.0 : 1.0) / (p_light * n));
+    const V3 power = Le * (M_PI * lp.area * J * (two ? 2.0 : 1.0) / (p_light * n));
     if (!(max_component(power) > 0.0)) co_return;
+    co_await follow(offset(lp.pos, sp.normal, nl, w), pr.sheet, w, p, power, rng, st, sched, out, stored);
+  }
+
+  // A photon of flux `power` from user-frame point x on `sheet` along local direction d (leaving prim `skip`),
+  // followed through mirrors and glass to where it is stored (`out`, `stored`) or lost.
+  Task<void> follow(V3 x, int sheet, V3 d, int skip, V3 power, Rng& rng, RenderStats& st, Scheduler* sched,
+                    Photon& out, char& stored) const {
     PathFrames<M> frames;
-    V3 x = offset(lp.pos, sp.normal, nl, w), d = w;
-    int sheet = pr.sheet, skip = p, specular = 0;
+    int specular = 0;
     double g = 1.0;  // nu at the segment's end over nu at the light
     for (int k = 0; k < o_.max_depth; ++k) {
       SegmentEnd e;
@@ -207,8 +234,9 @@ class PhotonTracer {
   const RenderOptions& o_;
   SegmentTracer<M, S> segments_;
   ChartGeometry<M> geo_;
+  std::vector<PointLightFrame> point_frames_;
   std::vector<char> emits_;   // per prim: sends photons
-  std::vector<int> lights_;   // the prims that send photons
+  std::vector<int> lights_;   // the prims that send photons, and point light k as -1 - k
   std::vector<double> cdf_;   // their choice by power, cumulative
 };
 

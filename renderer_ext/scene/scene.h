@@ -33,6 +33,29 @@ struct Camera {
   int shift = kShiftNone;
 };
 
+// A point light, or a spot light: radiant intensity `intensity` (per colour channel, per steradian of the local
+// static observer's sky at pos) towards every direction, or within a cone about `axis` (user frame), full
+// inside cos_inner and falling smoothly to 0 at cos_outer. No ray ever hits one: the light strategy and the
+// photons reach it (path_tracer.h, photon_tracer.h).
+struct PointLight {
+  V3 pos;
+  int sheet = 1;
+  V3 intensity{0, 0, 0};
+  bool spot = false;
+  V3 axis{0, 0, 1};
+  double cos_outer = -1.0, cos_inner = -1.0;
+  // The share of the intensity sent at cos_axis = cos(angle from the axis): 1 for a point light, a
+  // smoothstep from the cone's edge inwards for a spot light.
+  double profile(double cos_axis) const {
+    if (!spot || cos_axis >= cos_inner) return 1.0;
+    if (cos_axis <= cos_outer) return 0.0;
+    const double t = (cos_axis - cos_outer) / (cos_inner - cos_outer);
+    return t * t * (3.0 - 2.0 * t);
+  }
+  // The solid angle its directions are drawn from (photons): the whole sky, or the spot's cone.
+  double solid_angle() const { return spot ? kTwoPi * (1.0 - cos_outer) : 2.0 * kTwoPi; }
+};
+
 class Scene {
  public:
   std::vector<Sphere> spheres;
@@ -43,6 +66,8 @@ class Scene {
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<int> lights;  // prims that emit and can be sampled (spheres, quads, disks)
+  std::vector<PointLight> point_lights;  // the light strategy's lights lights.size() ... light_count() - 1
+  int light_count() const { return int(lights.size() + point_lights.size()); }
   Environment environment, environment_other;
   Camera camera;
   Bvh bvh;

@@ -382,6 +382,10 @@ def render(
     options["record_pixels"] = _record_pixels(record_pixels, (x0, y0, cw, ch), (w, h))
     metric = _metric(native["metric"])  # validates the parameters with the metric's own messages
     metric.prepare(stepper=options["stepper"])  # a metric from its line element: its renderer, compiled once
+    if native.get("lights") and not metric.is_static:
+        raise ValueError(f"lights: point and spot lights need a static spacetime (flat, Schwarzschild, "
+                         f"Reissner-Nordstrom, Ellis), where the lens map reaches them exactly; {metric.name} is not "
+                         f"(use a small emissive sphere or disk instead)")
     if options["photons"] > 0 and not metric.is_static:
         raise ValueError(f"photons: caustics by photons need a static spacetime (flat, Schwarzschild, "
                          f"Reissner-Nordstrom, Ellis); {metric.name} is not (set photons = 0)")

@@ -23,6 +23,7 @@ from warpviz.scene._toml_positions import TomlPositions
 from warpviz.scene.appearance import _environment, _materials, _textures
 from warpviz.scene.catalog import resolve_scene
 from warpviz.scene.model import Scene
+from warpviz.scene.lights import _lights
 from warpviz.scene.objects import _objects
 from warpviz.scene.reader import SceneError, _describe, _Reader
 from warpviz.scene.settings import _camera, _metric, _outputs, _render, wormhole_hint
@@ -113,7 +114,7 @@ def _toml_error_position(message: str, text: str) -> tuple[int, int, str]:
 
 # ---------------------------------------------------------------------------------------------- building
 _TOP_KEYS = ("version", "description", "metric", "camera", "render", "environment", "environment_other",
-             "textures", "materials", "objects", "outputs")  # fmt: skip
+             "textures", "materials", "objects", "lights", "outputs")  # fmt: skip
 
 
 def _build(r: _Reader, data: dict, *, path: Path | None) -> Scene:
@@ -137,9 +138,10 @@ def _build(r: _Reader, data: dict, *, path: Path | None) -> Scene:
     tex_list, tex_index = _textures(r, data.get("textures", {}))
     mat_list, mat_index = _materials(r, data.get("materials", {}), tex_list, tex_index)
     shapes = _objects(r, data.get("objects", []), mat_index, two_sheets=two_sheets)
+    lights = _lights(r, data.get("lights", []), two_sheets=two_sheets)
     outputs = _outputs(r, data.get("outputs", {}))
     return Scene(
         path=path, description=description.strip(), metric=metric, camera=camera, outputs=outputs,
-        _render=render, _paper=paper, _textures=tex_list, _materials=mat_list, _shapes=shapes,
+        _render=render, _paper=paper, _textures=tex_list, _materials=mat_list, _shapes=shapes, _lights=lights,
         _environment=environment, _environment_other=environment_other,
     )  # fmt: skip

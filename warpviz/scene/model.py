@@ -69,6 +69,7 @@ class Scene:
     _textures: list = field(repr=False)
     _materials: list = field(repr=False)
     _shapes: list = field(repr=False)
+    _lights: list = field(repr=False)
     _environment: dict = field(repr=False)
     _environment_other: dict | None = field(repr=False)
 
@@ -116,7 +117,7 @@ class Scene:
         Returns
         -------
         dict
-            ``metric``, ``camera``, ``textures``, ``materials``, ``shapes``, ``environment`` and
+            ``metric``, ``camera``, ``textures``, ``materials``, ``shapes``, ``lights``, ``environment`` and
             ``environment_other`` (a wormhole's other sky; otherwise the same dict as ``environment``),
             every key written (:func:`warpviz.scene.native.native_scene`).
         """
@@ -125,12 +126,14 @@ class Scene:
         h = h if height is None else image_side("height", height)
         camera = dict(copy.deepcopy(self.camera), width=w, height=h)
         shapes = copy.deepcopy(self._shapes)
+        lights = copy.deepcopy(self._lights)
         environment = copy.deepcopy(self._environment)
         other = copy.deepcopy(self._environment_other)
         if flat:
             metric = {"name": "minkowski", "params": []}
             sheet = camera["sheet"]
             shapes = [dict(s, sheet=1) for s in shapes if s["sheet"] == sheet]
+            lights = [dict(s, sheet=1) for s in lights if s["sheet"] == sheet]
             if sheet == -1 and other is not None:
                 environment = other
             other = None
@@ -146,6 +149,7 @@ class Scene:
             "textures": copy.deepcopy(self._textures),
             "materials": copy.deepcopy(self._materials),
             "shapes": shapes,
+            "lights": lights,
             "environment": environment,
             "environment_other": other,
         })  # fmt: skip
@@ -155,7 +159,8 @@ class Scene:
         w, h = self.size()
         emissive = {i for i, m in enumerate(self._materials) if m["type"] == "emissive"}
         lights = sum(1 for s in self._shapes if s["material"] in emissive)
-        return f"{self.metric!r}, {w}x{h}, {len(self._shapes)} shapes ({lights} emissive)"
+        points = f", {len(self._lights)} point or spot lights" if self._lights else ""
+        return f"{self.metric!r}, {w}x{h}, {len(self._shapes)} shapes ({lights} emissive){points}"
 
     def __repr__(self) -> str:
         where = self.path.name if self.path is not None else "<dict>"

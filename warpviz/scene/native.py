@@ -65,7 +65,7 @@ REQUIRED = _Required()
 #: and ``uvs`` may be ``None`` (none).
 SCHEMA: dict[str, Any] = {
     "scene": {"metric": REQUIRED, "camera": REQUIRED, "textures": (), "materials": REQUIRED, "shapes": REQUIRED,
-              "environment": None, "environment_other": None},
+              "lights": (), "environment": None, "environment_other": None},
     "metric": {"name": REQUIRED, "params": ()},
     "camera": {"position": REQUIRED, "look_at": REQUIRED, "up": (0.0, 0.0, 1.0), "fov": 40.0, "width": REQUIRED,
                "height": REQUIRED, "sheet": 1, "observer": None, "shift": "none"},
@@ -96,12 +96,20 @@ SCHEMA: dict[str, Any] = {
                  "outer_radius": REQUIRED, "meridian": (1.0, 0.0, 0.0)},
         "mesh": {"material": REQUIRED, "sheet": 1, "vertices": REQUIRED, "faces": REQUIRED, "uvs": None},
     },
+    # point and spot lights (no shape: rays never hit them): radiant intensity color x intensity per steradian
+    # of the local sky at position; a spot's cone of half-angle `angle` degrees about `direction`, its edge
+    # softened over the last `falloff` degrees
+    "lights": {
+        "point": {"position": REQUIRED, "sheet": 1, "color": (1.0, 1.0, 1.0), "intensity": REQUIRED},
+        "spot": {"position": REQUIRED, "sheet": 1, "color": (1.0, 1.0, 1.0), "intensity": REQUIRED,
+                 "direction": REQUIRED, "angle": 30.0, "falloff": 5.0},
+    },
     "environment": {"color": (0.0, 0.0, 0.0), "image": None, "stars": None, "spots": ()},
     "stars": {"density": REQUIRED, "brightness": REQUIRED, "size": REQUIRED, "seed": REQUIRED},
     "spots": {"direction": REQUIRED, "radius": 0.01, "color": (1.0, 1.0, 1.0)},
 }  # fmt: skip
 
-_TYPED = ("textures", "materials", "shapes")
+_TYPED = ("textures", "materials", "shapes", "lights")
 _MAX_SEED = 2**53  # the core once read seeds through a double: up to here, the star field is the same
 
 
@@ -430,6 +438,30 @@ def _shape(s: Mapping, w: str, materials: int) -> dict:
     return out
 
 
+def _light(s: Mapping, w: str) -> dict:
+    kind = _string(s, "type", w)
+    tb = "lights"
+    if kind not in SCHEMA["lights"]:
+        _fail(f"{w}.type", f"unknown light type {kind!r} (known: {', '.join(SCHEMA['lights'])})")
+    out: dict[str, Any] = {"type": kind, "position": _vec3(s, "position", w, kind, table=tb),
+                           "sheet": _sheet(s, w, kind, table=tb), "color": _vec3(s, "color", w, kind, table=tb),
+                           "intensity": _number(s, "intensity", w, kind, table=tb)}  # fmt: skip
+    if min(out["color"]) < 0:
+        _fail(f"{w}.color", "must be >= 0 in every channel")
+    if not 0 <= out["intensity"] <= MAX_STRENGTH:
+        _fail(f"{w}.intensity", f"must be in [0, {MAX_STRENGTH:g}]")
+    if kind == "spot":
+        out.update(direction=_vec3(s, "direction", w, kind, table=tb), angle=_number(s, "angle", w, kind, table=tb),
+                   falloff=_number(s, "falloff", w, kind, table=tb))  # fmt: skip
+        if not _length(out["direction"]) > 0:
+            _fail(f"{w}.direction", "must be non-zero")
+        if not 0 < out["angle"] <= 180:
+            _fail(f"{w}.angle", "must be in (0, 180] degrees")
+        if not 0 <= out["falloff"] <= out["angle"]:
+            _fail(f"{w}.falloff", "must be in [0, angle] degrees")
+    return out
+
+
 def _environment(value, w: str) -> dict:
     e = _table({} if value is None else value, w)
     tb = "environment"
@@ -501,6 +533,8 @@ def native_scene(scene: Mapping[str, Any]) -> dict:
                         for i, m in enumerate(materials)]  # fmt: skip
     shapes = _list(_get(d, "shapes", "scene", REQUIRED), "shapes")
     out["shapes"] = [_shape(_table(s, f"shapes[{i}]"), f"shapes[{i}]", len(materials)) for i, s in enumerate(shapes)]
+    lights = _list(_get(d, "lights", "scene", _default("scene", "lights")), "lights")
+    out["lights"] = [_light(_table(s, f"lights[{i}]"), f"lights[{i}]") for i, s in enumerate(lights)]
     out["environment"] = _environment(_get(d, "environment", "scene", _default("scene", "environment")), "environment")
     other = _get(d, "environment_other", "scene", _default("scene", "environment_other"))
     out["environment_other"] = out["environment"] if other is None else _environment(other, "environment_other")
@@ -514,8 +548,9 @@ def native_scene(scene: Mapping[str, Any]) -> dict:
 
 
 def scene_emits(native: Mapping[str, Any]) -> bool:
-    """Whether anything in a checked native scene gives off light: a shape whose material emits (an
-    ``emissive`` material of positive strength, or a reflecting one with a positive ``emission``), or a
+    """Whether anything in a checked native scene gives off light: a point or spot light, a shape whose
+    material emits (an ``emissive`` material of positive strength, or a reflecting one with a positive
+    ``emission``), or a
     sky (either sheet's) with a colour, an image, stars or spots. A scene that does not renders black.
 
     Examples
@@ -526,6 +561,9 @@ def scene_emits(native: Mapping[str, Any]) -> bool:
     >>> scene_emits(dark), scene_emits(dict(dark, environment={"color": [0.1, 0, 0]}))
     (False, True)
     """
+    if any(float(li.get("intensity", 0.0)) > 0.0 and max(float(v) for v in li.get("color", (1.0,))) > 0.0
+           for li in native.get("lights", [])):  # fmt: skip
+        return True
     materials = native.get("materials", [])
     used = {int(s["material"]) for s in native.get("shapes", []) if "material" in s}
     for i in used:
