@@ -29,6 +29,7 @@ BENCH_SUITES = {
     "line-element": "bench_line_element.py",
     "gravity-cost": "bench_gravity_cost.py",
     "builds": "bench_builds.py",
+    "caustics": "bench_caustics.py",
 }
 
 
@@ -36,7 +37,7 @@ BENCH_SUITES = {
 def bench(ctx: typer.Context) -> None:
     """Run a benchmark: `warpviz bench SUITE OPTIONS`, SUITE one of geodesics, work-precision, render, skips,
     light-connection, mitsuba-cornell, denoise, edge-samples, time-to-clean, dask, line-element, gravity-cost,
-    builds.
+    builds, caustics.
 
     Without a SUITE it runs the far-observer geodesic benchmark (benchmarks/bench_geodesics.py); every
     suite takes its own options after the name, e.g. `warpviz bench --size 32` or
