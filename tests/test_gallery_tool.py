@@ -132,3 +132,11 @@ def test_a_kept_picture_of_a_scene_that_has_changed_is_rendered_again(tmp_path):
     make_gallery.render_picture(load_scene(path), "ring", s, out=out, work=work, log=lines.append)
     assert any("the scene has changed since ring.exr was rendered; starting again" in line for line in lines)
     assert "kept" not in lines[-1]
+
+
+def test_every_shipped_scene_has_a_picture_name_of_its_own():
+    from warpviz.scene.catalog import shipped_scenes
+
+    names = [make_gallery.short_name(p) for p in shipped_scenes()]
+    assert len(names) == len(set(names))
+    assert "caustics_glass_ball_hole" in names and "fig07" in names and "mitsuba" in names

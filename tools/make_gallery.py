@@ -90,8 +90,9 @@ def is_room(scene) -> bool:
 
 def short_name(path: Path) -> str:
     """A scene's picture name: its figure (``fig07``) or first word (``mitsuba``), or the whole stem for the
-    line-element library (``line_element_kerr_newman``), whose scenes share their first words."""
-    return path.stem if path.stem.startswith("line_element_") else path.stem.split("_")[0]
+    line-element library (``line_element_kerr_newman``) and the caustic scenes (``caustics_glass_ball``), whose
+    scenes share their first words."""
+    return path.stem if path.stem.startswith(("line_element_", "caustics_")) else path.stem.split("_")[0]
 
 
 def settings(scene, quality: str, *, spp: int | None = None, denoise: bool | None = None,
