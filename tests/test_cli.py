@@ -305,11 +305,11 @@ def test_console_script_is_declared():
     assert callable(cli.main)
 
 
-def test_render_with_photons_and_photons_refused_in_kerr(tmp_path):
+def test_render_with_photons_and_a_bad_photon_count_refused(tmp_path):
     out = tmp_path / "caustic.png"
     result = invoke("render", "caustics_glass_ball", "--size", "16x12", "--spp", "2", "--photons", "500", "-o", out)
     assert result.exit_code == 0, result.output
     assert out.is_file()
-    kerr = tmp_path / "kerr.png"
-    result = invoke("render", "fig10d", "--size", "16x12", "--spp", "1", "--photons", "500", "-o", kerr)
-    assert result.exit_code == 2 and "static" in result.output and not kerr.exists()
+    bad = tmp_path / "bad.png"
+    result = invoke("render", "caustics_glass_ball", "--size", "16x12", "--spp", "1", "--photons", "-5", "-o", bad)
+    assert result.exit_code == 2 and "photons" in result.output and not bad.exists()

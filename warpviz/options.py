@@ -157,8 +157,8 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
     RenderOption("photons", "int", 0, "Caustics by photons: photons traced from the lights through mirrors and "
                  "glass for every sample index (a photon pass), gathered where a camera path first meets a diffuse "
                  "surface (progressive photon mapping: the gather radius shrinks pass by pass, so the image "
-                 "converges); the path tracer leaves those paths to them. Static spacetimes only (flat, "
-                 "Schwarzschild, Reissner-Nordstrom, Ellis); 0 turns it off.", lo=0, hi=10**8,
+                 "converges); the path tracer leaves those paths to them. Every spacetime (in Kerr and metrics from "
+                 "a line element the photons are integrated forward in time); 0 turns it off.", lo=0, hi=10**8,
                  flag="--photons"),  # fmt: skip
     RenderOption("photon_radius", "real", 2.0, "Caustics by photons: the first photon pass's gather radius, in "
                  "pixels' footprints at the gather point (the camera path's length there times a pixel's "

@@ -108,6 +108,15 @@ class ChartGeometry {
   // State of a ray traced backwards from user-frame point x along local direction d: the future-directed
   // momentum of light arriving there along d, negated. False on or inside a horizon.
   bool backward_state(V3 x, int sheet, V3 d, double y[8], StartFrames& frames) const {
+    return start_state(x, sheet, d, y, frames, true);
+  }
+  // State of light leaving user-frame point x along local direction d, forward in time (a photon from a light).
+  bool forward_state(V3 x, int sheet, V3 d, double y[8], StartFrames& frames) const {
+    return start_state(x, sheet, d, y, frames, false);
+  }
+
+ private:
+  bool start_state(V3 x, int sheet, V3 d, double y[8], StartFrames& frames, bool backward) const {
     const StartFrames::Entry* s = nullptr;
     for (int i = 0; i < frames.n && !s; ++i)
       if (frames.e[i].pos.x == x.x && frames.e[i].pos.y == x.y && frames.e[i].pos.z == x.z &&
@@ -121,14 +130,15 @@ class ChartGeometry {
       s = &frames.e[slot];
     }
     if (!s->ok) return false;
-    const double minus_d[3] = {-d.x, -d.y, -d.z};
+    const double sign = backward ? -1.0 : 1.0;
+    const double dir[3] = {sign * d.x, sign * d.y, sign * d.z};
     for (int i = 0; i < 4; ++i) y[i] = s->x4[i];
-    frame_to_momentum(s->f, minus_d, y + 4);
-    for (int i = 4; i < 8; ++i) y[i] = -y[i];
+    frame_to_momentum(s->f, dir, y + 4);
+    if (backward)
+      for (int i = 4; i < 8; ++i) y[i] = -y[i];
     return true;
   }
 
- private:
   const M& m_;
 };
 

@@ -41,7 +41,6 @@
 #include <functional>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <vector>
 
 #include "core/rng.h"
@@ -759,9 +758,6 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
   int64_t photon_passes = 0, photons_stored = 0;
   std::function<bool(int64_t)> photon_pass;
   if (o.photons > 0) {
-    if (!PhotonTracer<M, S>::kApplies)
-      throw std::invalid_argument("render option 'photons': caustics by photons need a static spacetime (flat, "
-                                  "Schwarzschild, Reissner-Nordstrom, Ellis); this one is not");
     photons = std::make_unique<PhotonTracer<M, S>>(m, sc, o);
     if (photons->any_light()) {
       photon_pass = [&, built = int64_t(-1)](int64_t j) mutable {

@@ -2,17 +2,20 @@
 // segment by the camera paths' own segment tracer (segment.h: closed-form orbits, integrated steps, SIMD
 // lanes), through mirrors and glass, and stored where they first reach a diffuse surface after at least one
 // specular vertex (light -> specular+ -> diffuse: the caustic paths, which the path tracer finds only when
-// a BSDF direction happens to hit a light after a specular chain). Only static metrics (flat space,
-// Schwarzschild, Reissner-Nordstrom, Ellis): there the spatial path of light is the same traced either way in
-// time, so a backward segment along the emitted direction is the photon's path.
+// a BSDF direction happens to hit a light after a specular chain). In flat space and static spherical metrics
+// (Schwarzschild, Reissner-Nordstrom, Ellis) the spatial path of light is the same traced either way in time,
+// so a backward segment along the emitted direction is the photon's path (closed forms included); in any other
+// (Kerr, metrics from a line element) the photon is integrated forward in time, its future-directed momentum
+// leaving along the emitted direction (frame dragging bends it the other way from a camera ray's).
 //
 // A photon's flux is what the path tracer's measurement gives the same path: a light chosen by its power, a
-// point on it by area, a direction cosine-weighted about its normal in the local static frame there, so
+// point on it by area, a direction cosine-weighted about its normal in the local observer's frame there (the
+// static observer, or the ZAMO where none is static), so
 //   flux = Le pi A J_L sides / (P(light) N),
 // A the light's user-frame area, J_L = dA_proper / dA_user at the point (the local frame's map), N the pass's
 // photons. The path tracer keeps radiance along a geodesic (a lamp that does not beam); the product
 // cos dOmega dA of a ray bundle is not kept in curved space but nu^2 cos dOmega dA is (the photons in phase
-// space), so the flux a photon brings to a surface whose static observer sees its frequency shifted by g
+// space), so the flux a photon brings to a surface whose local observer sees its frequency shifted by g
 // (nu_surface / nu_light) is the emitted one times g^-2. The camera side (path_tracer.h) divides by the
 // proper area pi r^2 J_S of its gather disk. Beaming emitters send no photons; the path tracer keeps their
 // caustics.
@@ -49,10 +52,12 @@ template <class M, class S>
 class PhotonTracer {
  public:
   using Scheduler = SampleScheduler<M, S>;
-  static constexpr bool kApplies = M::kFlat || M::kStaticSpherical;
+  // Flat and static spherical metrics trace photons as backward segments (the same spatial path, and their
+  // closed forms); any other is integrated forward in time.
+  static constexpr bool kTimeSymmetric = M::kFlat || M::kStaticSpherical;
 
   PhotonTracer(const M& m, const Scene& sc, const RenderOptions& o)
-      : m_(m), sc_(sc), o_(o), segments_(m, sc, o), geo_(m), point_frames_(point_light_frames(m, sc)) {
+      : m_(m), sc_(sc), o_(o), segments_(m, sc, o, !kTimeSymmetric), geo_(m), point_frames_(point_light_frames(m, sc)) {
     emits_.assign(sc.prims.size(), 0);
     double total = 0.0;
     for (const int p : sc.lights) {

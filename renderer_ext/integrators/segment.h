@@ -50,14 +50,16 @@ class SegmentTracer {
  public:
   using Scheduler = SampleScheduler<M, S>;
 
-  // Segments are backward rays, unrecorded, that escape beyond the scene's bounding sphere.
-  SegmentTracer(const M& m, const Scene& sc, const RenderOptions& o)
-      : m_(m), sc_(sc), o_(o), geo_(m), orbits_(m, sc, o.chord_tol, escape_radius(o, sc)) {
+  // Segments are backward rays, unrecorded, that escape beyond the scene's bounding sphere; with `forward`, light
+  // traced forward in time (photons in a spacetime that is not static, where the two differ), always integrated,
+  // its energy and direction at the end reported as a backward segment's are.
+  SegmentTracer(const M& m, const Scene& sc, const RenderOptions& o, bool forward = false)
+      : m_(m), sc_(sc), o_(o), geo_(m), orbits_(m, sc, o.chord_tol, escape_radius(o, sc)), forward_(forward) {
     topt_ = o.trace;
     topt_.record = false;
-    topt_.backward = true;
+    topt_.backward = !forward;
     topt_.escape_radius = orbits_.escape_radius();
-    closed_form_ = o.segment_method == kClosedFormSegments && orbits_.active();
+    closed_form_ = !forward && o.segment_method == kClosedFormSegments && orbits_.active();
   }
 
   const TraceOptions& options() const { return topt_; }
@@ -102,7 +104,7 @@ class SegmentTracer {
     const double skip_dist = 1e-4 * (1.0 + length(x));
     ++st.segments;
     double y[8];
-    if (!geo_.backward_state(x, sheet, d, y, frames)) {
+    if (!(forward_ ? geo_.forward_state(x, sheet, d, y, frames) : geo_.backward_state(x, sheet, d, y, frames))) {
       e.status = kHorizon;  // started on or inside the horizon (a surface grazing it)
       ++st.counts[e.status];
       co_return;
@@ -120,7 +122,7 @@ class SegmentTracer {
     ++st.counts[e.status];
     if (e.status == kEscaped) {
       e.dir = V3(res.dir);
-      e.energy = res.y[4];  // p_t of the backward ray = energy measured at rest at infinity
+      e.energy = forward_ ? -res.y[4] : res.y[4];  // p_t of the backward ray = energy measured at rest at infinity
     } else if (e.status == kHit) {
       if (!observer_frame(m_, res.y, e.frame)) {
         e.status = kHorizon;
@@ -167,6 +169,7 @@ class SegmentTracer {
   void finish_hit(const double* y, SegmentEnd& e) const {
     double n[3];
     e.energy = -momentum_to_frame(e.frame, y + 4, n);
+    if (forward_) e.energy = -e.energy;  // (a future-directed momentum: its own energy, its own direction)
     for (int i = 0; i < 8; ++i) e.y[i] = y[i];
     e.dir = V3(n);
     e.surface = sc_.surface(e.prim, e.pos);
@@ -198,6 +201,7 @@ class SegmentTracer {
   OrbitSegments<M> orbits_;
   TraceOptions topt_;
   bool closed_form_ = false;
+  bool forward_ = false;
 };
 
 }  // namespace wv

@@ -236,9 +236,11 @@ def render(
         the pass of its sample at its first diffuse vertex, and the path tracer leaves those paths (a light
         reached from there through mirrors and glass only) to the photons. The gather radius shrinks pass by
         pass (probabilistic progressive photon mapping), so the image converges to the path tracer's as the
-        samples grow (biased at any finite count: a caustic is slightly blurred). Static spacetimes only
-        (flat, Schwarzschild, Reissner-Nordstrom, Ellis). A pass depends only on (seed, sample index): the
-        same image on any threads, tiles and ranges.
+        samples grow (biased at any finite count: a caustic is slightly blurred). In flat space and static
+        spherical metrics a photon is traced as the camera's backward segments are (the same spatial path);
+        in Kerr and metrics from a line element it is integrated forward in time (frame dragging turns it
+        the other way). A pass depends only on (seed, sample index): the same image on any threads, tiles
+        and ranges.
     photon_radius : float, optional, keyword-only
         The first photon pass's gather radius in pixels' footprints at the gather point (default 2.0).
     batch : bool, optional, keyword-only
@@ -386,9 +388,6 @@ def render(
         raise ValueError(f"lights: point and spot lights need a static spacetime (flat, Schwarzschild, "
                          f"Reissner-Nordstrom, Ellis), where the lens map reaches them exactly; {metric.name} is not "
                          f"(use a small emissive sphere or disk instead)")
-    if options["photons"] > 0 and not metric.is_static:
-        raise ValueError(f"photons: caustics by photons need a static spacetime (flat, Schwarzschild, "
-                         f"Reissner-Nordstrom, Ellis); {metric.name} is not (set photons = 0)")
     settings = resume_settings(options, native)
     digest = scene_sha256(native)
     start = PassesDone(film=None, spp=0, passes=0)
@@ -415,9 +414,10 @@ def render(
     t0 = time.perf_counter()
     guide_segments = 0  # the segments path guiding's training traced
     if options["guide_training"] > 0:  # path guiding: trained once (a one-pixel range trains the whole image's
-        # tree, guide_training.h), then handed to every range, tile and pass
+        # tree, guide_training.h), then handed to every range, tile and pass (no photon pass for its one pixel)
         trained = core.render(native, {**core_options, "spp": 1, "sample_begin": 0, "crop": [0, 0, 1, 1], "aovs": [],
-                                       "edge_samples": 1, "detail_samples": 1, "record_pixels": None})  # fmt: skip
+                                       "edge_samples": 1, "detail_samples": 1, "record_pixels": None,
+                                       "photons": 0})  # fmt: skip
         if not trained["completed"]:
             raise KeyboardInterrupt
         core_options["guide"] = trained.get("guide")  # (None: nothing emits, nothing to learn)
