@@ -15,7 +15,7 @@ The reference (two halves of ``--ref-spp`` / 2 path-traced samples, independent 
 ``--ref-chunk`` samples, each written to ``--cache`` as an EXR and resumed from there, so an interrupted
 build goes on where it stopped (``--ref-only`` builds it and stops).
 
-    python benchmarks/bench_caustics.py                          # glass ball, flat and with the hole
+    python benchmarks/bench_caustics.py                          # glass ball, flat and with the hole (64 x 48)
     python benchmarks/bench_caustics.py --rooms glass_ball --photons 0,5000,20000 --seeds 6
     python benchmarks/bench_caustics.py --ref-only --rooms glass_ball_hole   # the reference only (resumable)
     python benchmarks/bench_caustics.py --quick                  # seconds (tests)
@@ -73,7 +73,7 @@ def seen_lights(room: str, w: int, h: int, spp: int) -> np.ndarray:
 def main(argv=None) -> list[dict]:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--rooms", default="glass_ball,glass_ball_hole", help="comma-separated subset of " + ", ".join(SCENES))
-    p.add_argument("--photons", default="0,20000", help="photon counts per pass (0: the path tracer, the baseline)")
+    p.add_argument("--photons", default="0,5000,20000", help="photon counts per pass (0: the path tracer, the baseline)")
     p.add_argument("--seeds", type=int, default=4)
     p.add_argument("--spp", type=int, default=16)
     p.add_argument("--size", default="64x48")

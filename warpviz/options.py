@@ -160,9 +160,10 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  "converges); the path tracer leaves those paths to them. Every spacetime (in Kerr and metrics from "
                  "a line element the photons are integrated forward in time); 0 turns it off.", lo=0, hi=10**8,
                  flag="--photons"),  # fmt: skip
-    RenderOption("photon_radius", "real", 2.0, "Caustics by photons: the first photon pass's gather radius, in "
-                 "pixels' footprints at the gather point (the camera path's length there times a pixel's "
-                 "angle); later passes shrink it.", lo=0.0, hi=1e4, lo_open=True),  # fmt: skip
+    RenderOption("photon_radius", "real", 2.0, "Caustics by photons: the first photon pass's smallest gather "
+                 "radius, in pixels' footprints at the gather point (the camera path's length there times a "
+                 "pixel's angle); where photons are sparse it reaches to the 16th nearest; later passes shrink "
+                 "it.", lo=0.0, hi=1e4, lo_open=True),  # fmt: skip
     RenderOption("filter", "choice", "box", "Pixel reconstruction filter, by importance sampling of each "
                  "camera sample's offset.", choices=tuple(FILTER_RADII)),  # fmt: skip
     RenderOption("filter_radius", "real", None, "Half-width of the filter's support in pixels.", lo=0.0,

@@ -396,16 +396,23 @@ class PathTracer {
   // The caustic radiance leaving diffuse vertex e towards wo, from the current photon pass (photon_map.h):
   // the flux of the photons within r of it, on the side wo leaves from, that reached it in at most
   // `segments` segments (the path's own budget), over the gather disk's proper area pi r^2 J, times
-  // albedo / pi. r is o.photon_radius pixels' footprint at the camera path's length to here, shrunk by the
-  // pass's factor.
+  // albedo / pi. Before the pass's shrinking factor, r is the larger of o.photon_radius pixels' footprint at
+  // the camera path's length to here and the distance to the kGatherNeighbours-th nearest such photon (at most
+  // kGatherReach footprints): where the photons are sparse (light spread thin through the glass, a large
+  // image) the disk widens until it holds a few, where they crowd (the focus) it stays a pixel's size.
+  static constexpr int kGatherNeighbours = 16;
+  static constexpr double kGatherReach = 64.0;
   V3 gather_photons(const SegmentEnd& e, V3 albedo, V3 wo, double path_length, int segments) const {
     const PhotonPass& pass = *caustics_.pass;
-    const double r = o_.photon_radius * pixel_angle_ * path_length * std::sqrt(pass.r2_factor);
-    if (!(r > 0.0) || pass.map.size() == 0 || segments < 2) return {0, 0, 0};
+    const double footprint = o_.photon_radius * pixel_angle_ * path_length;
+    if (!(footprint > 0.0) || pass.map.size() == 0 || segments < 2) return {0, 0, 0};
     const V3 side = dot(wo, e.normal_local) >= 0.0 ? e.surface.normal : -e.surface.normal;
+    auto usable = [&](const Photon& p) { return p.segments <= segments && dot(p.n_in, side) > 0.5; };
+    const double reach = pass.map.kth_distance(e.pos, e.sheet, kGatherNeighbours, kGatherReach * footprint, usable);
+    const double r = std::max(footprint, reach) * std::sqrt(pass.r2_factor);
     V3 flux{0, 0, 0};
     pass.map.for_each_near(e.pos, e.sheet, r, [&](const Photon& p) {
-      if (p.segments <= segments && dot(p.n_in, side) > 0.5) flux += p.power;
+      if (usable(p)) flux += p.power;
     });
     if (!(max_component(flux) > 0.0)) return {0, 0, 0};
     double J = 1.0;  // proper area over user-frame area of the surface here

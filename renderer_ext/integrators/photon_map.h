@@ -56,6 +56,19 @@ class PhotonMap {
   size_t size() const { return photons_.size(); }
   const std::vector<Photon>& photons() const { return photons_; }
 
+  // The distance from x to the k-th nearest photon on `sheet` that `ok(photon)` accepts (k <= kMaxNeighbours),
+  // or r_max where fewer than k lie within r_max.
+  static constexpr int kMaxNeighbours = 64;
+  template <class Ok>
+  double kth_distance(V3 x, int sheet, int k, double r_max, Ok&& ok) const {
+    double heap[kMaxNeighbours];  // the k smallest squared distances so far, a max-heap once full
+    int n = 0;
+    k = std::clamp(k, 1, kMaxNeighbours);
+    double worst = r_max * r_max;
+    if (!photons_.empty()) nearest(0, photons_.size(), x, sheet, k, ok, heap, n, worst);
+    return n < k ? r_max : std::sqrt(heap[0]);
+  }
+
   // Calls f(photon) for every photon on `sheet` within distance r of x (user frame), in the tree's order.
   template <class F>
   void for_each_near(V3 x, int sheet, double r, F&& f) const {
@@ -84,6 +97,39 @@ class PhotonMap {
     nodes_[m] = int8_t(axis);
     build(idx, lo, m);
     build(idx, m + 1, hi);
+  }
+
+  template <class Ok>
+  void nearest(size_t lo, size_t hi, V3 x, int sheet, int k, Ok& ok, double* heap, int& n, double& worst) const {
+    while (hi > lo) {
+      const size_t m = (lo + hi) / 2;
+      const Photon& p = photons_[m];
+      const V3 d = p.pos - x;
+      const double d2 = dot(d, d);
+      if (d2 < worst && p.sheet == sheet && ok(p)) {
+        if (n < k) {
+          heap[n++] = d2;
+          std::push_heap(heap, heap + n);
+          if (n == k) worst = std::min(worst, heap[0]);
+        } else {
+          std::pop_heap(heap, heap + n);
+          heap[n - 1] = d2;
+          std::push_heap(heap, heap + n);
+          worst = heap[0];
+        }
+      }
+      const int axis = nodes_[m];
+      const double delta = x[axis] - p.pos[axis];
+      if (delta <= 0.0) {
+        nearest(lo, m, x, sheet, k, ok, heap, n, worst);
+        if (delta * delta >= worst) return;
+        lo = m + 1;
+      } else {
+        nearest(m + 1, hi, x, sheet, k, ok, heap, n, worst);
+        if (delta * delta >= worst) return;
+        hi = m;
+      }
+    }
   }
 
   template <class F>

@@ -242,7 +242,8 @@ def render(
         the other way). A pass depends only on (seed, sample index): the same image on any threads, tiles
         and ranges.
     photon_radius : float, optional, keyword-only
-        The first photon pass's gather radius in pixels' footprints at the gather point (default 2.0).
+        The first photon pass's smallest gather radius in pixels' footprints at the gather point (default
+        2.0); where photons are sparse the gather reaches to the 16th nearest one.
     batch : bool, optional, keyword-only
         In curved space, step the geodesics of many samples together in SIMD lanes (default True,
         1.5-1.9x faster). The image is bit-identical either way.
