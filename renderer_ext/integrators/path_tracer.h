@@ -396,19 +396,22 @@ class PathTracer {
   // The caustic radiance leaving diffuse vertex e towards wo, from the current photon pass (photon_map.h):
   // the flux of the photons within r of it, on the side wo leaves from, that reached it in at most
   // `segments` segments (the path's own budget), over the gather disk's proper area pi r^2 J, times
-  // albedo / pi. Before the pass's shrinking factor, r is the larger of o.photon_radius pixels' footprint at
-  // the camera path's length to here and the distance to the kGatherNeighbours-th nearest such photon (at most
-  // kGatherReach footprints): where the photons are sparse (light spread thin through the glass, a large
-  // image) the disk widens until it holds a few, where they crowd (the focus) it stays a pixel's size.
+  // albedo / pi. Before the pass's shrinking factor, r is o.photon_radius pixels' footprint at the camera
+  // path's length to here; at the path's `first` diffuse vertex, the larger of that and the distance to the
+  // kGatherNeighbours-th nearest such photon (at most kGatherReach footprints): where the photons are sparse
+  // (light spread thin through the glass, a large image) the disk widens until it holds a few, where they
+  // crowd (the focus) it stays a pixel's size. (Later vertices see the caustic indirectly, blurred anyway;
+  // the search there cost 65 % of a 640 x 480 sample, against 28 % at the first.)
   static constexpr int kGatherNeighbours = 16;
-  static constexpr double kGatherReach = 64.0;
-  V3 gather_photons(const SegmentEnd& e, V3 albedo, V3 wo, double path_length, int segments) const {
+  static constexpr double kGatherReach = 8.0;
+  V3 gather_photons(const SegmentEnd& e, V3 albedo, V3 wo, double path_length, int segments, bool first) const {
     const PhotonPass& pass = *caustics_.pass;
     const double footprint = o_.photon_radius * pixel_angle_ * path_length;
     if (!(footprint > 0.0) || pass.map.size() == 0 || segments < 2) return {0, 0, 0};
     const V3 side = dot(wo, e.normal_local) >= 0.0 ? e.surface.normal : -e.surface.normal;
     auto usable = [&](const Photon& p) { return p.segments <= segments && dot(p.n_in, side) > 0.5; };
-    const double reach = pass.map.kth_distance(e.pos, e.sheet, kGatherNeighbours, kGatherReach * footprint, usable);
+    const double reach =
+        first ? pass.map.kth_distance(e.pos, e.sheet, kGatherNeighbours, kGatherReach * footprint, usable) : 0.0;
     const double r = std::max(footprint, reach) * std::sqrt(pass.r2_factor);
     V3 flux{0, 0, 0};
     pass.map.for_each_near(e.pos, e.sheet, r, [&](const Photon& p) {
@@ -530,7 +533,7 @@ class PathTracer {
       const SurfacePoint& sp = e.surface;
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
       if (caustics_.pass && mat.kind == MaterialKind::kDiffuse) {
-        ps.add(ps.beta * gather_photons(e, albedo, wo, path_length, o_.max_depth - (bounce + 1)));
+        ps.add(ps.beta * gather_photons(e, albedo, wo, path_length, o_.max_depth - (bounce + 1), !gathered));
         gathered = true;
       }
       const bool nee = o_.light_sampling && !mat.is_delta() && sc_.light_count() > 0;
