@@ -208,7 +208,7 @@ class Metric:
     @property
     def is_static(self) -> bool:
         """Flat, or static and spherically symmetric: light's spatial path is the same traced forward or
-        backward in time (what photons from the lights need)."""
+        backward in time, and the exact lens map reaches a point (what point and spot lights need)."""
         entry = _entry(self.name)
         return bool(entry["flat"] or entry["static_spherical"])
 
