@@ -131,6 +131,14 @@ inline LensImageRays lens_image_rays(const SphericalLens& lens, const LensVertex
   return out;
 }
 
+// |dA_B / dOmega_A| of image ray ir (user frame): the area it sweeps at B per solid angle at A, on a plane through
+// B whose normal has |cosine| cos_n with the arrival direction (1: the plane across the ray).
+inline double lens_area_jacobian(const LensImageRays& rays, const LensImageRay& ir, double cos_n) {
+  const double cos_r = std::fabs(dot(ir.t_arr, rays.xb));
+  return rays.RB * rays.RB * std::fabs(std::sin(ir.r.phi)) * std::fabs(ir.r.dphi_dpsi) * cos_r /
+         (std::sin(ir.r.psi) * cos_n);
+}
+
 // The images of order < orders of light point b seen from vertex v, with their weights.
 inline LensImages lens_images(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders) {
   LensImages im;
@@ -139,12 +147,11 @@ inline LensImages lens_images(const SphericalLens& lens, const LensVertex& v, co
   for (int k = 0; k < rays.n; ++k) {
     const LensImageRay& ir = rays.ray[k];
     // The area Jacobian from the sweep's derivative and the arrival direction.
-    const double cos_r = std::fabs(dot(ir.t_arr, rays.xb)), cos_n = dot(ir.t_arr, b.normal);
+    const double cos_n = dot(ir.t_arr, b.normal);
     double weight = 0.0;
     const double cos_a = dot(ir.w, v.normal_local);
     if (cos_a > 0.0 && (b.two_sided || cos_n < 0.0) && std::isfinite(ir.r.dphi_dpsi)) {
-      const double jac = rays.RB * rays.RB * std::fabs(std::sin(ir.r.phi)) * std::fabs(ir.r.dphi_dpsi) * cos_r /
-                         (std::sin(ir.r.psi) * std::fabs(cos_n));
+      const double jac = lens_area_jacobian(rays, ir, std::fabs(cos_n));
       if (jac > 0.0 && std::isfinite(jac)) weight = cos_a / jac;
     }
     im.w[im.n] = ir.w;

@@ -312,8 +312,7 @@ class PathTracer {
         if (!(max_component(f) > 0.0 && spsi > 0.0 && std::isfinite(ir.r.dphi_dpsi))) continue;
         // |dA_B / dOmega_A| across the ray in the user frame, then the light's local frame's area across it.
         const V3 t = ir.t_arr;
-        const double jac = rays.RB * rays.RB * std::fabs(std::sin(ir.r.phi)) * std::fabs(ir.r.dphi_dpsi) *
-                           std::fabs(dot(t, rays.xb)) / spsi;
+        const double jac = lens_area_jacobian(rays, ir, 1.0);
         V3 t1, t2;
         basis_around(t, t1, t2);
         q[i] = normalize(pf.to_local(-t));  // the direction the light leaves along, in its local frame

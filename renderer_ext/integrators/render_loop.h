@@ -220,38 +220,38 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
   total = int64_t(nmain) * o.spp;
 
   // Progressive passes (1, 1, 2, 4, ... samples) so an interrupted render is a whole image; then each group's
-  // further samples, doubling.
+  // further samples, doubling. With photons, photon pass by photon pass instead: pass j's main samples, then
+  // each group's.
   struct Pass {
     int64_t s0, s1;
     const std::vector<size_t>* pixels;  // a group's, or null: the main pixels
     int64_t k;                          // the pixels' multiple of spp
   };
   std::vector<Pass> passes;
-  for (int64_t s0 = B, n = 1; s0 < B1; s0 += n, n = std::min<int64_t>(2 * n, 64))
-    passes.push_back({s0, std::min(B1, s0 + n), nullptr, 1});
-  for (const Group& g : groups) {
-    if (g.pixels.empty()) continue;
-    const int64_t s0 = B == 0 && !photon_pass ? B1 : g.k * B, s1 = g.k * B1;  // the group's own samples
-    total += int64_t(g.pixels.size()) * (s1 - s0);
-    for (int64_t s = s0, n = std::min<int64_t>(o.spp, 64); s < s1; s += n, n = std::min<int64_t>(2 * n, 64))
-      passes.push_back({s, std::min(s1, s + n), &g.pixels, g.k});
+  for (const Group& g : groups)
+    if (!g.pixels.empty())  // the group's own samples
+      total += int64_t(g.pixels.size()) * (g.k * B1 - (B == 0 && !photon_pass ? B1 : g.k * B));
+  if (photon_pass) {
+    for (int64_t j = B; j < B1; ++j) {
+      passes.push_back({j, j + 1, nullptr, 1});
+      for (const Group& g : groups)
+        if (!g.pixels.empty()) passes.push_back({g.k * j, g.k * (j + 1), &g.pixels, g.k});
+    }
+  } else {
+    for (int64_t s0 = B, n = 1; s0 < B1; s0 += n, n = std::min<int64_t>(2 * n, 64))
+      passes.push_back({s0, std::min(B1, s0 + n), nullptr, 1});
+    for (const Group& g : groups) {
+      if (g.pixels.empty()) continue;
+      const int64_t s0 = B == 0 ? B1 : g.k * B, s1 = g.k * B1;
+      for (int64_t s = s0, n = std::min<int64_t>(o.spp, 64); s < s1; s += n, n = std::min<int64_t>(2 * n, 64))
+        passes.push_back({s, std::min(s1, s + n), &g.pixels, g.k});
+    }
   }
   std::atomic<int64_t> counts[6];
   for (int k = 0; k < 6; ++k) counts[k] = probes.counts[k];
   std::atomic<int64_t> steps{probes.steps}, segments{probes.segments};
   constexpr size_t kChunk = 64;  // pixels per parallel task
-  // With photons, the passes go photon pass by photon pass instead: pass j's main samples, then each group's.
-  std::vector<Pass> runs;
-  if (photon_pass) {
-    for (int64_t j = B; j < B1; ++j) {
-      runs.push_back({j, j + 1, nullptr, 1});
-      for (const Group& g : groups)
-        if (!g.pixels.empty()) runs.push_back({g.k * j, g.k * (j + 1), &g.pixels, g.k});
-    }
-  } else {
-    runs = passes;
-  }
-  for (const auto& pass : runs) {
+  for (const auto& pass : passes) {
     if (photon_pass && !photon_pass(pass.s0 / pass.k)) {
       out.completed = false;
       break;
