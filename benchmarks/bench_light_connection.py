@@ -1,17 +1,19 @@
 """Efficiency of the light connections in the lit rooms around black holes and wormholes.
 
 Efficiency = 1 / (relative MSE x CPU time) against a converged reference, for the shipped rooms fig07
-(Schwarzschild), fig10d (Kerr a = 0.9), fig12 and fig13 (Ellis, the space side and the room side), each
-rendered with
+(Schwarzschild), fig10d (Kerr a = 0.9), fig12 and fig13 (Ellis, the space side and the room side) and
+line_element_kerr_newman (Kerr-Newman from its line element), each rendered with
 
 * ``lens``          the defaults: the lens-aware connection (the exact lens map where the metric is static
-                    and spherical, in Kerr the Schwarzschild map of the same mass as a proposal),
+                    and spherical, in Kerr and a line element with a mass the Schwarzschild map of the same
+                    mass as a proposal),
                     stratified pixel samples, and 8x the samples in the pixels on a directly seen lamp's
                     edge (``edge_samples``),
 * ``lens, unguided`` (fig12 only, whose scene turns path guiding on) the same without path guiding,
 * ``lens, guided``  (the other curved rooms) the same with path guiding (``guide_training=8``),
 * ``images``        (Kerr rooms only) the same with Kerr's Newton-refined image proxies instead of the
                     proposal (``light_connection="images"``: the default before it),
+* ``lens, photons`` (Kerr rooms only) the same with caustics by photons (``photons=500`` per pass),
 * ``lens, no edge`` the same with ``edge_samples=1`` (every pixel gets spp samples),
 * ``lens, jitter``  the same with uniform jitter in the pixel (``pixel_sampler="independent"``),
 * ``aimed, jitter`` the renderer before this work: flat-space proxies aimed by pilot geodesics, jitter,
@@ -66,6 +68,7 @@ ESTIMATORS = {
     "lens, jitter": {"pixel_sampler": "independent"},
     "aimed, jitter": {"light_connection": "aimed", "pixel_sampler": "independent", "edge_samples": 1,
                       "guide_training": 0},
+    "lens, photons": {"photons": 500},  # caustics by photons (issue 35), 500 per pass: a 48 x 36 frame's share
     "brute": {"light_sampling": False, "guide_training": 0},
     "brute, jitter": {"light_sampling": False, "pixel_sampler": "independent", "guide_training": 0},
     "seed": {"light_sampling": False, "stepper": "rk4", "pixel_sampler": "independent", "edge_samples": 1,
@@ -73,10 +76,12 @@ ESTIMATORS = {
 }
 
 #: Rooms: name -> (scene, flat companion).
-ROOMS = {"fig07": False, "fig10d": False, "fig12": False, "fig13": False, "fig07 flat": True}
+ROOMS = {"fig07": False, "fig10d": False, "fig12": False, "fig13": False, "line_element_kerr_newman": False,
+         "fig07 flat": True}
 
 #: Estimators measured in some rooms only: name -> those rooms (elsewhere they equal another).
-ONLY_IN = {"images": {"fig10d"}, "lens, unguided": {"fig12"}, "lens, guided": {"fig07", "fig10d", "fig13"}}
+ONLY_IN = {"images": {"fig10d", "line_element_kerr_newman"}, "lens, unguided": {"fig12"},
+           "lens, guided": {"fig07", "fig10d", "fig13"}, "lens, photons": {"fig10d", "line_element_kerr_newman"}}
 
 
 def _scene(room: str) -> str:

@@ -18,6 +18,8 @@ from warpviz.spacetime.line_element.custom import LineElementDefinition
 from warpviz.spacetime.line_element.plugin import CompilerNotFoundError
 
 from conftest import EXPRESSION_METRICS, expression_metric
+from native_scenes import room
+from test_render import _image_means, assert_same_mean
 
 try:
     plugin_mod.find_compiler()
@@ -324,3 +326,44 @@ def test_the_interstellar_wormhole_scene_has_the_window_its_comment_states():
     dirs = np.cos(angles)[:, None] * inward + np.sin(angles)[:, None] * side
     rays = wv.trace(sc.metric, position, dirs, escape_radius=500)
     assert rays.final_sheets.tolist() == [-1, 1]
+
+
+@pytest.mark.parametrize("key", ["ks_schwarzschild", "static_charged"])
+def test_a_line_element_with_a_mass_draws_light_samples_from_the_schwarzschild_lens_map(key):
+    """A metric from its line element that gives a mass, asymptotically flat and without a throat, offers the
+    Schwarzschild lens map of that mass as the light connection's proposal, as Kerr does
+    (integrators/lens_proposal.h): the mean of brute force (in Reissner-Nordström with Q = 0.8 M too, whose orbits
+    are not the proxy's), far less noise than the aimed proxies (measured: 0.06x in ks_schwarzschild, where every
+    proposed sample reaches the light, 0.4x in static_charged)."""
+    m = expression_metric(key)
+    sc = room({"name": m.name, "params": m.param_values}, size=(12, 9), light=3.0, spheres=False)
+    lens = _image_means(sc, range(12), spp=8, max_depth=3)
+    brute = _image_means(sc, range(12, 36), spp=8, max_depth=3, light_sampling=False)
+    assert lens.mean() > 0
+    assert_same_mean(lens, brute, slack=2e-3 * brute.mean())
+
+    def variance(**kw):
+        return np.stack([wv.render(sc, spp=8, seed=s, max_depth=3, **kw).rgb
+                         for s in range(6)]).astype(np.float64).var(axis=0).mean()
+
+    assert variance() < 0.6 * variance(light_connection="aimed")
+
+
+def test_only_an_asymptotically_flat_line_element_with_a_mass_and_no_throat_offers_the_proxy():
+    """The proxy is Schwarzschild's: a wormhole (its throat's scale is no mass), a spacetime that is not
+    asymptotically flat (an escape radius) or one without a mass does not offer it."""
+    from warpviz.spacetime.line_element.codegen import metric_source
+    from warpviz.spacetime.line_element.tensor import LineElement
+
+    le = LineElement("-dt**2 + dx**2 + dy**2 + dz**2 + 2*M/r*(dt + (x*dx + y*dy + z*dz)/r)**2", parameters=["M"])
+    M = le.params[0]
+    offers = {}
+    for label, landmarks in (("mass", {"mass": M}), ("none", {}), ("escape", {"mass": M, "escape_radius": 50 * M})):
+        source = metric_source(le, name="probe", values={"M": 1.0}, landmarks=landmarks, register=False)
+        offers[label] = "kLensProxy = true" in source
+    wormhole = LineElement("-dt**2 + dl**2 + (b**2 + l**2)*dOmega**2", coordinates="wormhole", parameters=["b"],
+                           throat="b")
+    source = metric_source(wormhole, name="probe", values={"b": 1.0}, landmarks={"throat_radius": wormhole.params[0]},
+                           register=False)
+    offers["wormhole"] = "kLensProxy = true" in source
+    assert offers == {"mass": True, "none": False, "escape": False, "wormhole": False}

@@ -166,8 +166,9 @@ struct MetricBase {
   // the light connection then samples every image of a light exactly (integrators/lens_connection.h).
   static constexpr bool kStaticSpherical = false;
   SphericalLens spherical_lens() const { return {}; }
-  // A metric close to a static spherical one far out (Kerr: Schwarzschild of the same mass) may offer that
-  // one's lens map as a proxy: the light connection starts its Newton search for each image there.
+  // A metric close to a static spherical one far out (Kerr, a line element with a mass: Schwarzschild of the
+  // same mass) may offer that one's lens map as a proxy: the light connection draws its directions from it as
+  // a proposal (integrators/lens_proposal.h), and the image proxies start their Newton search there.
   static constexpr bool kLensProxy = false;
   SphericalLens lens_proxy() const { return {}; }
 

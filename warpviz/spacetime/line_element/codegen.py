@@ -329,6 +329,19 @@ def _landmark_lines(le: LineElement, landmarks: Mapping[str, sympy.Basic]) -> li
         lines.append(f"  double length_scale() const {{ return {text['mass']}; }}")
     if "escape" in text:  # not asymptotically flat: rays escape here (spacetime/metric.h, escape_limit)
         lines.append(f"  double escape_limit() const {{ return {text['escape']}; }}")
+    if "mass" in text and not ({"escape", "throat"} & set(text)) and le.coordinates != "wormhole":
+        # An asymptotically flat spacetime with a mass and no throat is Schwarzschild far out: its lens map of
+        # that mass is the light connection's proposal, as Kerr's (integrators/lens_proposal.h; any metric
+        # keeps the mean, one near Schwarzschild's lowers the noise).
+        lines += ["  static constexpr bool kLensProxy = true;",
+                  "  SphericalLens lens_proxy() const {",
+                  f"    const double m = {text['mass']};",
+                  "    SphericalLens s;",
+                  "    if (!(m > 0.0)) return s;  // (no proxy: the proposal then stays off)",
+                  "    s.a[1] = -2.0 * m;",
+                  "    s.u_inner = 1.0 / (3.0 * m);",
+                  "    return s;",
+                  "  }"]  # fmt: skip
     extra = [f"    l.{k} = {text[k]};" for k in ("inner_horizon", "photon_sphere", "throat", "mass") if k in text]
     if extra:
         lines += ["  Landmarks landmarks() const {", "    Landmarks l = MetricBase::landmarks();", *extra,
