@@ -233,6 +233,12 @@ def pinhole_grid(position, *, size: int, half_width: float, look_at=(0.0, 0.0, 0
     return pinhole_directions(camera, np.column_stack([x.ravel(), y.ravel()]), jitter=(0.0, 0.0))
 
 
+#: Render options of a converged reference: the path tracer alone. A scene's caustics by photons (the lit rooms
+#: ask for 0.3 per pixel) are biased at any finite count, so a reference leaves them out and a photon render's
+#: bias counts in its error.
+UNBIASED = {"photons": 0, "photons_per_pixel": 0.0}
+
+
 class Reference:
     """The mean of two independent renders and what their difference says about its own noise.
 

@@ -31,7 +31,8 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, add_cluster_options, cluster_render_options, machine_line, timed, write_csv  # noqa: E402
+from _common import (RESULTS, UNBIASED, add_cluster_options, cluster_render_options, machine_line, timed,  # noqa: E402
+                     write_csv)
 
 SCENE = "fig07"
 
@@ -62,7 +63,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     kw = {"width": w, "height": h, "threads": args.threads, "progress": None}
 
     with cluster_render_options(args) as via:
-        halves = [wv.render(SCENE, spp=ref_spp // 2, seed=1000 + k, aovs=[], **{**kw, **via}).rgb.astype(np.float64)
+        halves = [wv.render(SCENE, spp=ref_spp // 2, seed=1000 + k, aovs=[], **{**kw, **via, **UNBIASED}).rgb.astype(np.float64)
                   for k in (0, 1)]  # fmt: skip
     ref = 0.5 * (halves[0] + halves[1])
     ref_noise = float(np.mean((halves[0] - halves[1]) ** 2)) / 4.0 / float(np.mean(ref)) ** 2

@@ -28,23 +28,23 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import (RESULTS, Reference, add_cluster_options, cluster_render_options, machine_line,  # noqa: E402
-                     timed, write_csv)
+from _common import (RESULTS, UNBIASED, Reference, add_cluster_options, cluster_render_options,  # noqa: E402
+                     machine_line, timed, write_csv)
 
 SETTINGS = (1, 2, 4, 8, 16, 32)
 
 
-def _render(scene: str, size, *, spp: int, seed: int, edge_samples: int, via: dict | None = None):
+def _render(scene: str, size, *, spp: int, seed: int, edge_samples: int, via: dict | None = None, **options):
     img, cpu, _ = timed(lambda: wv.render(scene, width=size[0], height=size[1], spp=spp, seed=seed,
-                                          edge_samples=edge_samples, **{"threads": 1, **(via or {})}))
+                                          edge_samples=edge_samples, **{"threads": 1, **(via or {}), **options}))
     return img, cpu
 
 
 def reference(scene: str, *, size, ref_spp: int, via: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The reference of ``scene`` from two halves and, per pixel, the squared error its own noise adds
     (``via``: render keywords that send the halves to a Dask cluster)."""
-    a, _ = _render(scene, size, spp=ref_spp // 2, seed=100_001, edge_samples=8, via=via)
-    b, _ = _render(scene, size, spp=ref_spp // 2, seed=200_003, edge_samples=8, via=via)
+    a, _ = _render(scene, size, spp=ref_spp // 2, seed=100_001, edge_samples=8, via=via, **UNBIASED)
+    b, _ = _render(scene, size, spp=ref_spp // 2, seed=200_003, edge_samples=8, via=via, **UNBIASED)
     ref = Reference(a.rgb, b.rgb, ref_spp // 2)
     return ref.image, ref.noise_map
 

@@ -13,7 +13,8 @@ line_element_kerr_newman (Kerr-Newman from its line element), each rendered with
 * ``lens, guided``  (the other curved rooms) the same with path guiding (``guide_training=8``),
 * ``images``        (Kerr rooms only) the same with Kerr's Newton-refined image proxies instead of the
                     proposal (``light_connection="images"``: the default before it),
-* ``lens, photons`` (Kerr rooms only) the same with caustics by photons (``photons=500`` per pass),
+* ``lens, no photons`` (the rooms with a mirror and a glass ball) the same without their caustics by photons
+                    (``photons_per_pixel=0``; the scenes ask for 0.3 per pixel),
 * ``lens, no edge`` the same with ``edge_samples=1`` (every pixel gets spp samples),
 * ``lens, jitter``  the same with uniform jitter in the pixel (``pixel_sampler="independent"``),
 * ``aimed, jitter`` the renderer before this work: flat-space proxies aimed by pilot geodesics, jitter,
@@ -27,14 +28,14 @@ speed drifts between the estimators' runs, so the lens connection's efficiency o
 measured with their times taken alternately (five rounds of lens, brute; ``over_brute_interleaved_min``
 and ``_median``, from the rounds' largest and median time ratio).
 
-The reference of each room is the default estimator at ``--ref-spp`` samples in two independent halves;
-their difference estimates the reference's own noise, which is subtracted from every MSE. The relative MSE
-is the mean squared error over pixels and channels divided by the squared mean of the reference. It is
-reported twice: over every pixel, and over the pixels that do not see an emitter directly (found by a
-camera-segment-only render): those few pixels, where the camera sees a lensed image of the lamp, carry
-the noise of the camera rays' pixel footprint (the lamp's edge inside a pixel), which no light connection
-touches; ``edge_samples`` gives the ones its probes find more samples. Direct light alone (max depth 2)
-gives the relative RMSE at 16 spp the issue compares with the flat room's.
+The reference of each room is the default estimator without photons at ``--ref-spp`` samples in two
+independent halves; their difference estimates the reference's own noise, which is subtracted from every
+MSE. The relative MSE is the mean squared error over pixels and channels divided by the squared mean of
+the reference. It is reported twice: over every pixel, and over the pixels that do not see an emitter
+directly (found by a camera-segment-only render): those few pixels, where the camera sees a lensed image of
+the lamp, carry the noise of the camera rays' pixel footprint (the lamp's edge inside a pixel), which no
+light connection touches; ``edge_samples`` gives the ones its probes find more samples. Direct light alone
+(max depth 2) gives the relative RMSE at 16 spp the issue compares with the flat room's.
 
     python benchmarks/bench_light_connection.py            # ~10 minutes on one core
     python benchmarks/bench_light_connection.py --quick    # seconds
@@ -55,8 +56,8 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import (RESULTS, Reference, add_cluster_options, cluster_render_options, machine_line,  # noqa: E402
-                     timed, write_csv)
+from _common import (RESULTS, UNBIASED, Reference, add_cluster_options, cluster_render_options,  # noqa: E402
+                     machine_line, timed, write_csv)
 
 #: Estimators: name -> render options.
 ESTIMATORS = {
@@ -67,12 +68,13 @@ ESTIMATORS = {
     "lens, no edge": {"edge_samples": 1},
     "lens, jitter": {"pixel_sampler": "independent"},
     "aimed, jitter": {"light_connection": "aimed", "pixel_sampler": "independent", "edge_samples": 1,
-                      "guide_training": 0},
-    "lens, photons": {"photons": 500},  # caustics by photons (issue 35), 500 per pass: a 48 x 36 frame's share
-    "brute": {"light_sampling": False, "guide_training": 0},
-    "brute, jitter": {"light_sampling": False, "pixel_sampler": "independent", "guide_training": 0},
+                      "guide_training": 0, "photons_per_pixel": 0.0},
+    "lens, no photons": {"photons_per_pixel": 0.0},  # the rooms' caustics by photons (0.3 per pixel) off
+    "brute": {"light_sampling": False, "guide_training": 0, "photons_per_pixel": 0.0},
+    "brute, jitter": {"light_sampling": False, "pixel_sampler": "independent", "guide_training": 0,
+                      "photons_per_pixel": 0.0},
     "seed": {"light_sampling": False, "stepper": "rk4", "pixel_sampler": "independent", "edge_samples": 1,
-             "guide_training": 0},
+             "guide_training": 0, "photons_per_pixel": 0.0},
 }
 
 #: Rooms: name -> (scene, flat companion).
@@ -81,7 +83,8 @@ ROOMS = {"fig07": False, "fig10d": False, "fig12": False, "fig13": False, "line_
 
 #: Estimators measured in some rooms only: name -> those rooms (elsewhere they equal another).
 ONLY_IN = {"images": {"fig10d", "line_element_kerr_newman"}, "lens, unguided": {"fig12"},
-           "lens, guided": {"fig07", "fig10d", "fig13"}, "lens, photons": {"fig10d", "line_element_kerr_newman"}}
+           "lens, guided": {"fig07", "fig10d", "fig13"},
+           "lens, no photons": {"fig07", "fig10d", "line_element_kerr_newman"}}
 
 
 def _scene(room: str) -> str:
@@ -99,9 +102,11 @@ def _render(room: str, cfg: dict, *, spp: int, seed: int, max_depth: int | None 
 
 def reference(room: str, cfg: dict, *, max_depth: int | None = None, via: dict | None = None):
     """The reference frame from two halves, the MSE its own noise adds, and the mask of pixels that see
-    no emitter directly (``via``: render keywords that send the halves to a Dask cluster)."""
-    a, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=100_001, max_depth=max_depth, via=via)
-    b, _ = _render(room, cfg, spp=cfg["ref_spp"] // 2, seed=200_003, max_depth=max_depth, via=via)
+    no emitter directly (``via``: render keywords that send the halves to a Dask cluster). The halves are the
+    path tracer's, without the scene's photons: unbiased (a photon render's bias is part of its error)."""
+    half = {"spp": cfg["ref_spp"] // 2, "max_depth": max_depth, "via": via, **UNBIASED}
+    a, _ = _render(room, cfg, seed=100_001, **half)
+    b, _ = _render(room, cfg, seed=200_003, **half)
     direct, _ = _render(room, cfg, spp=64, seed=7, max_depth=1, edge_samples=1)  # the camera segment alone
     ref = Reference(a, b, cfg["ref_spp"] // 2)
     return ref.image, ref.noise_map, direct.max(axis=2) <= 0.0

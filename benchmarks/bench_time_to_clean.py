@@ -45,8 +45,8 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import (RESULTS, Reference, add_cluster_options, cluster_render_options, machine_line,  # noqa: E402
-                     time_at_error, write_csv)
+from _common import (RESULTS, UNBIASED, Reference, add_cluster_options, cluster_render_options,  # noqa: E402
+                     machine_line, time_at_error, write_csv)
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -67,7 +67,7 @@ def reference(scene: str, w: int, h: int, *, cache: Path, seconds: float, spp: i
     halves = []
     for k in (0, 1):
         path = cache / f"{scene}-{w}x{h}-seed{1000 + k}.exr"
-        kw = {"width": w, "height": h, "seed": 1000 + k, "aovs": [], "progress": None}
+        kw = {"width": w, "height": h, "seed": 1000 + k, "aovs": [], "progress": None, **UNBIASED}
         prior = path if path.is_file() else None
         if seconds > 0:
             img = wv.render(scene, spp=spp, time_limit=seconds, resume=prior, **kw, **(via or {}))

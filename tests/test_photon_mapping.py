@@ -178,3 +178,19 @@ def test_bad_photon_options_are_refused_naming_them():
         wv.render(glass_ball(), spp=1, photons=-1)
     with pytest.raises(ValueError, match="photon_radius"):
         wv.render(glass_ball(), spp=1, photons=10, photon_radius=0.0)
+
+
+def test_photons_per_pixel_add_the_whole_image_s_count_in_every_window_and_resume_keeps_them():
+    """photons_per_pixel adds round(density x width x height) photons to each pass (the same render as that
+    count), a window of the image traces the whole image's pass (its pixels are the whole render's), a scene's
+    [render] may set it, and a resumed render must keep it."""
+    sc = glass_ball()  # 16 x 12: 0.75 per pixel is 144 photons
+    per_pixel = wv.render(sc, spp=2, seed=7, max_depth=6, photons=100, photons_per_pixel=0.75)
+    assert per_pixel.stats["photon_passes"] == 2 and per_pixel.stats["photons_stored"] > 0
+    np.testing.assert_array_equal(per_pixel.rgb, wv.render(sc, spp=2, seed=7, max_depth=6, photons=244).rgb)
+    window = wv.render(sc, spp=2, seed=7, max_depth=6, photons=100, photons_per_pixel=0.75, crop=(8, 0, 8, 12))
+    np.testing.assert_array_equal(window.rgb, per_pixel.rgb[:, 8:])
+    with pytest.raises(ValueError, match="photons_per_pixel"):
+        wv.render(sc, spp=4, seed=7, max_depth=6, photons=100, photons_per_pixel=0.5, resume=per_pixel)
+    with pytest.raises(ValueError, match="photons_per_pixel"):
+        wv.render(sc, spp=1, photons_per_pixel=-0.5)

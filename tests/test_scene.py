@@ -143,8 +143,8 @@ def test_scene_values_reach_the_native_dict():
     assert native["metric"] == {"name": "kerr", "params": [scene.metric.mass, 0.9]}
     assert (native["camera"]["width"], native["camera"]["height"]) == (33, 21)
     assert native["camera"]["position"] == [0.0, -110.0, 0.0]
-    assert scene.render_settings() == {"spp": 8, "seed": 1, "max_depth": 6}
-    assert scene.render_settings(paper=True) == {"spp": 1024, "seed": 1, "max_depth": 6}
+    assert scene.render_settings() == {"spp": 8, "seed": 1, "max_depth": 6, "photons_per_pixel": 0.3}
+    assert scene.render_settings(paper=True) == {"spp": 1024, "seed": 1, "max_depth": 6, "photons_per_pixel": 0.3}
     assert scene.size(paper=True) == (1024, 768)
     # a returned dict is a copy: changing it does not change the scene
     native["camera"]["position"][0] = 99.0

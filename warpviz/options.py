@@ -160,6 +160,10 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  "converges); the path tracer leaves those paths to them. Every spacetime (in Kerr and metrics from "
                  "a line element the photons are integrated forward in time); 0 turns it off.", lo=0, hi=10**8,
                  flag="--photons"),  # fmt: skip
+    RenderOption("photons_per_pixel", "real", 0.0, "Caustics by photons: more photons per pass, this many per "
+                 "pixel of the whole image (added to `photons`): the gather's noise follows the pixels' number, so "
+                 "a scene that names a density keeps its caustics' quality at every size (the lit rooms: 0.3).",
+                 lo=0.0, hi=1e3, flag="--photons-per-pixel"),  # fmt: skip
     RenderOption("photon_radius", "real", 2.0, "Caustics by photons: the first photon pass's smallest gather "
                  "radius, in pixels' footprints at the gather point (the camera path's length there times a "
                  "pixel's angle); where photons are sparse it reaches to the 16th nearest; later passes shrink "

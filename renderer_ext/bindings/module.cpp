@@ -357,7 +357,11 @@ nb::dict render(nb::dict scene, nb::dict options) {
     o.classes.assign(el.data(), el.data() + el.size());
   }
   o.guide_training = option<int>(options, "guide_training");
-  o.photons = option<int64_t>(options, "photons");
+  // A pass's photons: `photons` plus `photons_per_pixel` per pixel of the whole image (every crop and tile traces
+  // the whole image's pass).
+  const double per_pixel = option<double>(options, "photons_per_pixel");
+  o.photons = option<int64_t>(options, "photons") +
+              int64_t(std::llround(per_pixel * double(sc.camera.width) * double(sc.camera.height)));
   o.photon_radius = option<double>(options, "photon_radius");
   if (options.contains("guide") && !options["guide"].is_none()) {
     o.guide = guide_from(options["guide"]);

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -251,7 +252,17 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
   for (int k = 0; k < 6; ++k) counts[k] = probes.counts[k];
   std::atomic<int64_t> steps{probes.steps}, segments{probes.segments};
   constexpr size_t kChunk = 64;  // pixels per parallel task
+  // parallel_for polls every 20 ms while a pass runs; passes shorter than that (photon passes of one sample on
+  // a small image) poll between them instead, at the same rate, so progress moves and Ctrl-C stops the render.
+  auto last_poll = std::chrono::steady_clock::now();
   for (const auto& pass : passes) {
+    if (poll && std::chrono::steady_clock::now() - last_poll >= std::chrono::milliseconds(20)) {
+      last_poll = std::chrono::steady_clock::now();
+      if (!poll()) {
+        out.completed = false;
+        break;
+      }
+    }
     if (photon_pass && !photon_pass(pass.s0 / pass.k)) {
       out.completed = false;
       break;

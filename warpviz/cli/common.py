@@ -296,7 +296,8 @@ def _duration(seconds: float) -> str:
 
 def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_sampling, progress, record_pixels=None,
                   light_connection=None, crop=None, aovs=None, denoise=False, edge_samples=None, detail_samples=None,
-                  guide_training=None, photons=None, time_limit=None, noise_target=None, resume=None, client=None, tile=None):
+                  guide_training=None, photons=None, photons_per_pixel=None, time_limit=None, noise_target=None,
+                  resume=None, client=None, tile=None):
     """Call warpviz.render with the command line's options; bad options (and images too large for the
     memory, and an image to resume that does not match) become exit code 2, a denoiser that is not
     installed exit code 1 with the extra to install."""
@@ -304,7 +305,8 @@ def _render_scene(scene: Scene, *, spp, size, seed, threads, flat, paper, light_
     width, height = size if size is not None else (None, None)
     extra = {"denoise": True} if denoise else {}  # only when asked: a stand-in renderer need not know them
     for key, value in (("edge_samples", edge_samples), ("detail_samples", detail_samples),
-                       ("guide_training", guide_training), ("photons", photons), ("time_limit", time_limit),
+                       ("guide_training", guide_training), ("photons", photons),
+                       ("photons_per_pixel", photons_per_pixel), ("time_limit", time_limit),
                        ("noise_target", noise_target),
                        ("resume", resume), ("on_pass", getattr(progress, "on_pass", None)), ("client", client),
                        ("tile", tile)):  # fmt: skip

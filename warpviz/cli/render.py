@@ -103,6 +103,9 @@ def render(
         None, "--guide-training", min=0, max=256, help=option_help("guide_training")
     ),
     photons: Optional[int] = typer.Option(None, "--photons", min=0, max=10**8, help=option_help("photons")),
+    photons_per_pixel: Optional[float] = typer.Option(
+        None, "--photons-per-pixel", min=0.0, max=1e3, help=option_help("photons_per_pixel")
+    ),
     max_error_fraction: float = typer.Option(
         MAX_ERROR_FRACTION, "--max-error-fraction", min=0.0, max=1.0,
         help="Exit with code 3 when more than this fraction of the samples failed (a geodesic ran out of "
@@ -164,7 +167,8 @@ def render(
                                 light_sampling=False if no_light_sampling else None, progress=progress,
                                 light_connection=light_connection, crop=crop, aovs=aovs,
                                 denoise=denoise, edge_samples=edge_samples, detail_samples=detail_samples,
-                                guide_training=guide_training, photons=photons, time_limit=seconds_budget,
+                                guide_training=guide_training, photons=photons, photons_per_pixel=photons_per_pixel,
+                                time_limit=seconds_budget,
                                 noise_target=noise_target, resume=resume, client=client, tile=tile)  # fmt: skip
         if target.suffix.lower() == ".exr":
             _keep_aovs(img, sc.outputs.get("aovs"))

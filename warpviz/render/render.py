@@ -98,6 +98,7 @@ def render(
     segment_method: str | None = None,
     guide_training: int | None = None,
     photons: int | None = None,
+    photons_per_pixel: float | None = None,
     photon_radius: float | None = None,
     aovs=None,
     crop=None,
@@ -241,6 +242,11 @@ def render(
         in Kerr and metrics from a line element it is integrated forward in time (frame dragging turns it
         the other way). A pass depends only on (seed, sample index): the same image on any threads, tiles
         and ranges.
+    photons_per_pixel : float, optional, keyword-only
+        More photons per pass, this many per pixel of the whole image (default 0, or the scene's), added to
+        ``photons``: a photon pass's noise in a pixel falls with the photons per pixel, so a density keeps a
+        scene's caustics alike at every size (the shipped lit rooms ask for 0.3: 518 photons at 48 x 36,
+        92,160 at 640 x 480). A crop or a tile traces the whole image's count.
     photon_radius : float, optional, keyword-only
         The first photon pass's smallest gather radius in pixels' footprints at the gather point (default
         2.0); where photons are sparse the gather reaches to the 16th nearest one.
@@ -327,7 +333,7 @@ def render(
                  "batch": batch, "rr_depth": rr_depth, "max_steps": max_steps, "escape_radius": escape_radius,
                  "max_drift": max_drift, "chord_tolerance": chord_tolerance,
                  "segment_method": segment_method, "guide_training": guide_training, "photons": photons,
-                 "photon_radius": photon_radius}  # fmt: skip
+                 "photons_per_pixel": photons_per_pixel, "photon_radius": photon_radius}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:
             options[key] = value
@@ -418,7 +424,7 @@ def render(
         # tree, guide_training.h), then handed to every range, tile and pass (no photon pass for its one pixel)
         trained = core.render(native, {**core_options, "spp": 1, "sample_begin": 0, "crop": [0, 0, 1, 1], "aovs": [],
                                        "edge_samples": 1, "detail_samples": 1, "record_pixels": None,
-                                       "photons": 0})  # fmt: skip
+                                       "photons": 0, "photons_per_pixel": 0.0})  # fmt: skip
         if not trained["completed"]:
             raise KeyboardInterrupt
         core_options["guide"] = trained.get("guide")  # (None: nothing emits, nothing to learn)
