@@ -8,7 +8,8 @@ line_element_kerr_newman (Kerr-Newman from its line element), each rendered with
                     and spherical, in Kerr and a line element with a mass the Schwarzschild map of the same
                     mass as a proposal),
                     stratified pixel samples, and 8x the samples in the pixels on a directly seen lamp's
-                    edge (``edge_samples``),
+                    edge (``edge_samples``); the rooms with a mirror and a glass ball trace caustics by photons
+                    (their scenes' ``photons_per_pixel = 0.3``),
 * ``lens, unguided`` (fig12 only, whose scene turns path guiding on) the same without path guiding,
 * ``lens, guided``  (the other curved rooms) the same with path guiding (``guide_training=8``),
 * ``images``        (Kerr rooms only) the same with Kerr's Newton-refined image proxies instead of the
