@@ -186,7 +186,7 @@ int main() {{
 }}
 """)
     exe = tmp_path / "harness"
-    subprocess.run([compiler, "-std=c++17", "-O1", "-ffp-contract=off", f"-I{ROOT / 'renderer_ext'}", f"-I{tmp_path}",
+    subprocess.run([compiler, "-std=c++20", "-O1", "-ffp-contract=off", f"-I{ROOT / 'renderer_ext'}", f"-I{tmp_path}",
                     str(tmp_path / "main.cpp"), "-o", str(exe)], check=True, capture_output=True, timeout=300)  # fmt: skip
     out = subprocess.run([str(exe)], check=True, capture_output=True, text=True, timeout=60).stdout
     return np.array([[float(v) for v in line.split()] for line in out.strip().splitlines()])

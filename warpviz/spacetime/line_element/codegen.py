@@ -231,6 +231,32 @@ def _kerr_schild_rhs_lines(le: LineElement, f: sympy.Basic, k: list) -> list[str
     return lines
 
 
+def _kerr_schild_frame_lines(le: LineElement, f: sympy.Basic, k: list) -> list[str]:
+    """The static observer's frame in closed form for g = η + f k⊗k (``closed_frame``, as the hand-written Kerr
+    file has it: spacetime/frame.h, ``kerr_schild_static_frame``): f and k at x after CSE, the closed form where k
+    is null (|k| = 1, checked at x) and f < 1, the generic construction elsewhere (an ergoregion). Frames are built
+    at every path vertex; the generic one solves for the observer and orthonormalises (5 % of a Kerr–Newman
+    room's time)."""
+    names, tvals, counter = _scope(le, "x")
+    lines = ["  // Kerr-Schild form g = eta + f k (x) k: f and k's spatial part at x.",
+             "  template <class T>", "  void kerr_schild_parts(const T* x, T& f, T k[3]) const {"]  # fmt: skip
+    lines += _definition_lines(le, names, tvals, counter, gradients=False)
+    pre, printed, is_t = _straight_line([f, *k[1:]], names, tvals, counter)
+    lines += pre
+    lines.append(f"    f = {_as_t(printed[0], is_t[0])};")
+    lines += [f"    k[{i}] = {_as_t(text, t)};" for i, (text, t) in enumerate(zip(printed[1:], is_t[1:]))]
+    lines += ["  }", "",
+              "  // The static observer's frame in closed form where k is null and f < 1, else the generic one.",
+              "  bool closed_frame(const double* x, ObserverFrame& fr) const {",
+              "    double f, k[3];",
+              "    kerr_schild_parts(x, f, k);",
+              "    const double kk = k[0] * k[0] + k[1] * k[1] + k[2] * k[2];",
+              "    if (std::isfinite(f) && std::fabs(kk - 1.0) <= 1e-12 && kerr_schild_static_frame(f, k, fr)) return true;",
+              "    return observer_frame_generic(*this, x, fr);",
+              "  }"]  # fmt: skip
+    return lines
+
+
 def _rhs_lines(le: LineElement, split: bool) -> list[str]:
     """The body of ``rhs``: the definitions, g and every ∂g component that is not identically zero as local
     values after CSE (never stored in arrays: in SIMD lanes the arrays' loads and stores cost more than
@@ -486,6 +512,7 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         '#include "core/elementary.h"',
         '#include "core/linalg.h"',
         '#include "core/simd.h"',
+        '#include "spacetime/frame.h"',
         '#include "spacetime/metric.h"',
         *(['#include "spacetime/throat_chart.h"'] if wormhole else []),
         *(['#include "engine/register.h"'] if register else []),
@@ -526,6 +553,8 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         "  __attribute__((noinline)) void rhs(const T y[8], T dy[8]) const {",
         *_rhs_body(le, values, split, structure),
         "  }",
+        "",
+        *(_kerr_schild_frame_lines(le, *ks) if (ks := kerr_schild_form(le) if structure == "auto" else None) else []),
         "",
         *(_wormhole_lines(le) if wormhole else
           ["  double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }"]),
