@@ -313,3 +313,18 @@ def test_render_with_photons_and_a_bad_photon_count_refused(tmp_path):
     bad = tmp_path / "bad.png"
     result = invoke("render", "caustics_glass_ball", "--size", "16x12", "--spp", "1", "--photons", "-5", "-o", bad)
     assert result.exit_code == 2 and "photons" in result.output and not bad.exists()
+
+
+def test_render_with_photons_per_pixel_and_a_bad_density_refused(tmp_path):
+    """--photons-per-pixel reaches the render (its EXR's resume settings keep it) and a negative one is exit 2."""
+    out = tmp_path / "caustic.exr"
+    result = invoke("render", "caustics_glass_ball", "--size", "16x12", "--spp", "2", "--photons", "0",
+                    "--photons-per-pixel", "2.5", "-o", out)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    from warpviz.render.resume import saved_resume
+
+    assert saved_resume(wv.Image.open(out).metadata)["settings"]["photons_per_pixel"] == 2.5
+    bad = tmp_path / "bad.png"
+    result = invoke("render", "caustics_glass_ball", "--size", "16x12", "--spp", "1", "--photons-per-pixel", "-1",
+                    "-o", bad)  # fmt: skip
+    assert result.exit_code == 2 and "photons" in result.output and not bad.exists()
