@@ -130,7 +130,8 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  "'lens' samples every lensed image of a light (exact in Schwarzschild, Reissner-Nordstrom and "
                  "Ellis; in Kerr and in a metric from its line element that gives a mass, the Schwarzschild "
                  "connection of that mass as a proposal); 'images' uses Newton-refined image proxies instead, and "
-                 "'aimed' flat-space proxies aimed by pilot geodesics, for comparison.", choices=("lens", "images", "aimed"), flag="--light-connection"),  # fmt: skip
+                 "'aimed' flat-space proxies aimed by pilot geodesics, for comparison.",
+                 choices=("lens", "images", "aimed"), flag="--light-connection"),  # fmt: skip
     RenderOption("lens_images", "int", 2, "Image orders the lens connection samples (1: the direct image, 2: "
                  "also round the far side, ...).", lo=1, hi=4),  # fmt: skip
     RenderOption("pixel_sampler", "choice", "sobol", "Where a camera sample falls in its pixel: 'sobol' "

@@ -251,7 +251,8 @@ def _kerr_schild_frame_lines(le: LineElement, f: sympy.Basic, k: list) -> list[s
               "    double f, k[3];",
               "    kerr_schild_parts(x, f, k);",
               "    const double kk = k[0] * k[0] + k[1] * k[1] + k[2] * k[2];",
-              "    if (std::isfinite(f) && std::fabs(kk - 1.0) <= 1e-12 && kerr_schild_static_frame(f, k, fr)) return true;",
+              "    const bool null_k = std::fabs(kk - 1.0) <= 1e-12;",
+              "    if (std::isfinite(f) && null_k && kerr_schild_static_frame(f, k, fr)) return true;",
               "    return observer_frame_generic(*this, x, fr);",
               "  }"]  # fmt: skip
     return lines
@@ -314,10 +315,9 @@ def split_solve_applies(le: LineElement, values: Mapping[str, float], *, points:
     return True
 
 
-def _rhs_body(le: LineElement, values: Mapping[str, float], split: bool | None, structure: str) -> list[str]:
-    if structure not in ("auto", "general"):
-        raise ValueError(f"structure must be 'auto' or 'general', got {structure!r}")
-    ks = kerr_schild_form(le) if structure == "auto" else None
+def _rhs_body(le: LineElement, values: Mapping[str, float], split: bool | None, ks: tuple | None) -> list[str]:
+    """The body of ``rhs``: from the Kerr–Schild form ``ks`` (:func:`kerr_schild_form`) where there is one, else
+    the general path."""
     if ks is not None:
         return _kerr_schild_rhs_lines(le, *ks)
     return _rhs_lines(le, split_solve_applies(le, values) if split is None else split)
@@ -481,6 +481,9 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
     if not name.replace("_", "").isalnum() or not name[:1].isalpha():
         raise ValueError(f"a metric name is letters, digits and _, starting with a letter, got {name!r}")
     cls = _class_name(name)
+    if structure not in ("auto", "general"):
+        raise ValueError(f"structure must be 'auto' or 'general', got {structure!r}")
+    ks = kerr_schild_form(le) if structure == "auto" else None  # g = eta + f k k: closed-form H and frame
     wormhole = le.coordinates == "wormhole"
     if wormhole:  # the throat sets the length scale unless a mass is given
         landmarks = {"mass": le.chart_scale, **(landmarks or {})}
@@ -551,11 +554,10 @@ def metric_source(le: LineElement, *, name: str, values: Mapping[str, float], su
         "  // dx^mu = u^mu = g^{mu nu} p_nu, dp_l = (1/2) u^mu u^nu d_l g_{mu nu} (not inlined: codegen.py)",
         "  template <class T>",
         "  __attribute__((noinline)) void rhs(const T y[8], T dy[8]) const {",
-        *_rhs_body(le, values, split, structure),
+        *_rhs_body(le, values, split, ks),
         "  }",
         "",
-        *(_kerr_schild_frame_lines(le, *ks) if (ks := kerr_schild_form(le) if structure == "auto" else None) else []),
-        "",
+        *(_kerr_schild_frame_lines(le, *ks) + [""] if ks is not None else []),
         *(_wormhole_lines(le) if wormhole else
           ["  double radius(const double* x) const { return std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }"]),
         *_landmark_lines(le, landmarks or {}),
