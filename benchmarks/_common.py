@@ -233,6 +233,33 @@ def pinhole_grid(position, *, size: int, half_width: float, look_at=(0.0, 0.0, 0
     return pinhole_directions(camera, np.column_stack([x.ravel(), y.ravel()]), jitter=(0.0, 0.0))
 
 
+def seeded_errors(render: Callable[[int], Any], ref: Reference, off, seeds: int) -> dict:
+    """A benchmark row's error fields for ``render(seed)`` (an Image) over seeds 1 .. ``seeds`` against ``ref``:
+    mean, smallest and largest relative MSE over every pixel, the mean over the ``off`` pixels ((H, W) bool, those
+    that see no light directly), the mean wall seconds, and the efficiencies 1 / (MSE x seconds)."""
+    errs, offs, secs = [], [], []
+    for s in range(seeds):
+        t0 = time.perf_counter()
+        img = render(1 + s)
+        secs.append(time.perf_counter() - t0)
+        errs.append(ref.rel_mse(img.rgb)[0])
+        offs.append(ref.rel_mse(img.rgb, off)[0])
+    mse, mse_off, seconds = float(np.mean(errs)), float(np.mean(offs)), float(np.mean(secs))
+    return {"rel_mse_mean": mse, "rel_mse_min": float(np.min(errs)), "rel_mse_max": float(np.max(errs)),
+            "rel_mse_off_lights": mse_off, "seconds_mean": seconds, "efficiency": 1.0 / (mse * seconds),
+            "efficiency_off_lights": 1.0 / (mse_off * seconds)}  # fmt: skip
+
+
+def over_baseline(rows: Sequence[dict], base: dict, name: str) -> None:
+    """Adds to each of ``rows`` its MSE and efficiency over ``base``'s (a row of :func:`seeded_errors`), over
+    every pixel and off the lights: ``mse_over_NAME``, ``efficiency_over_NAME``, ``off_lights_..._over_NAME``."""
+    for r in rows:
+        r[f"mse_over_{name}"] = r["rel_mse_mean"] / base["rel_mse_mean"]
+        r[f"efficiency_over_{name}"] = r["efficiency"] / base["efficiency"]
+        r[f"off_lights_mse_over_{name}"] = r["rel_mse_off_lights"] / base["rel_mse_off_lights"]
+        r[f"off_lights_efficiency_over_{name}"] = r["efficiency_off_lights"] / base["efficiency_off_lights"]
+
+
 #: Render options of a converged reference: the path tracer alone. A scene's caustics by photons (the lit rooms
 #: ask for 0.3 per pixel) are biased at any finite count, so a reference leaves them out and a photon render's
 #: bias counts in its error.

@@ -35,7 +35,7 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, Reference, machine_line, write_csv  # noqa: E402
+from _common import RESULTS, Reference, machine_line, over_baseline, seeded_errors, write_csv  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = {"glass_ball": ROOT / "scenes" / "caustics_glass_ball.toml",
@@ -99,27 +99,14 @@ def main(argv=None) -> list[dict]:
         ref = Reference(halves[0], halves[1], ref_spp // 2)
         off = ~seen_lights(room, w, h, 16 if args.quick else 256)
         for n in counts:
-            errs, offs, secs = [], [], []
-            for s in range(seeds):
-                t0 = time.perf_counter()
-                img = wv.render(str(SCENES[room]), width=w, height=h, spp=spp, seed=1 + s, photons=n, aovs=[],
-                                progress=None)  # fmt: skip
-                secs.append(time.perf_counter() - t0)
-                errs.append(ref.rel_mse(img.rgb)[0])
-                offs.append(ref.rel_mse(img.rgb, off)[0])
+            def render(seed, n=n):
+                return wv.render(str(SCENES[room]), width=w, height=h, spp=spp, seed=seed, photons=n, aovs=[],
+                                 progress=None)  # fmt: skip
+
             rows.append({"room": room, "size": f"{w}x{h}", "spp": spp, "photons": n, "seeds": seeds,
-                         "rel_mse_mean": float(np.mean(errs)), "rel_mse_min": float(np.min(errs)),
-                         "rel_mse_max": float(np.max(errs)), "rel_mse_off_lights": float(np.mean(offs)),
-                         "reference_noise": ref.noise, "seconds_mean": float(np.mean(secs)),
-                         "efficiency": 1.0 / (float(np.mean(errs)) * float(np.mean(secs))),
-                         "efficiency_off_lights": 1.0 / (float(np.mean(offs)) * float(np.mean(secs)))})  # fmt: skip
-        base = next(r for r in rows if r["room"] == room and r["photons"] == counts[0])
-        for r in rows:
-            if r["room"] == room:
-                r["mse_over_base"] = r["rel_mse_mean"] / base["rel_mse_mean"]
-                r["efficiency_over_base"] = r["efficiency"] / base["efficiency"]
-                r["off_lights_mse_over_base"] = r["rel_mse_off_lights"] / base["rel_mse_off_lights"]
-                r["off_lights_efficiency_over_base"] = r["efficiency_off_lights"] / base["efficiency_off_lights"]
+                         "reference_noise": ref.noise, **seeded_errors(render, ref, off, seeds)})  # fmt: skip
+        mine = [r for r in rows if r["room"] == room]
+        over_baseline(mine, next(r for r in mine if r["photons"] == counts[0]), "base")
     for r in rows:
         print(f"{r['room']:16s} photons {r['photons']:>7d}: rel MSE {r['rel_mse_mean']:.3e} "
               f"({r['mse_over_base']:.3f}x), {r['seconds_mean']:.2f} s, efficiency {r['efficiency_over_base']:.2f}x; "

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +31,7 @@ import numpy as np
 import warpviz as wv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, Reference, machine_line, write_csv  # noqa: E402
+from _common import RESULTS, Reference, machine_line, over_baseline, seeded_errors, write_csv  # noqa: E402
 from bench_time_to_clean import light_pixels  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -83,27 +82,14 @@ def main(argv=None) -> list[dict]:
             continue
         off = ~light_pixels(SCENES[room], w, h)  # the pixels whose camera rays do not see a light directly
         for g in settings:
-            errs, offs, secs = [], [], []
-            for s in range(seeds):
-                t0 = time.perf_counter()
-                img = wv.render(SCENES[room], width=w, height=h, spp=spp, seed=1 + s, guide_training=g, aovs=[],
-                                progress=None)  # fmt: skip
-                secs.append(time.perf_counter() - t0)
-                errs.append(ref.rel_mse(img.rgb)[0])
-                offs.append(ref.rel_mse(img.rgb, off)[0])
+            def render(seed, g=g):
+                return wv.render(SCENES[room], width=w, height=h, spp=spp, seed=seed, guide_training=g, aovs=[],
+                                 progress=None)  # fmt: skip
+
             rows.append({"room": room, "size": f"{w}x{h}", "spp": spp, "guide_training": g, "seeds": seeds,
-                         "rel_mse_mean": float(np.mean(errs)), "rel_mse_min": float(np.min(errs)),
-                         "rel_mse_max": float(np.max(errs)), "rel_mse_off_lights": float(np.mean(offs)),
-                         "seconds_mean": float(np.mean(secs)),
-                         "efficiency": 1.0 / (float(np.mean(errs)) * float(np.mean(secs))),
-                         "efficiency_off_lights": 1.0 / (float(np.mean(offs)) * float(np.mean(secs)))})  # fmt: skip
-        base = next(r for r in rows if r["room"] == room and r["guide_training"] == settings[0])
-        for r in rows:
-            if r["room"] == room:
-                r["mse_over_off"] = r["rel_mse_mean"] / base["rel_mse_mean"]
-                r["efficiency_over_off"] = r["efficiency"] / base["efficiency"]
-                r["off_lights_mse_over_off"] = r["rel_mse_off_lights"] / base["rel_mse_off_lights"]
-                r["off_lights_efficiency_over_off"] = r["efficiency_off_lights"] / base["efficiency_off_lights"]
+                         **seeded_errors(render, ref, off, seeds)})  # fmt: skip
+        mine = [r for r in rows if r["room"] == room]
+        over_baseline(mine, next(r for r in mine if r["guide_training"] == settings[0]), "off")
     print(f"{'room':8} {'training':>8} {'rel MSE mean (min-max)':>30} {'s':>6} {'MSE/off':>8} {'eff/off':>8}"
           f" | off the lights: {'rel MSE':>10} {'MSE/off':>8} {'eff/off':>8}")  # fmt: skip
     for r in rows:
