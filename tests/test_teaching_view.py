@@ -30,7 +30,7 @@ WINDOW = (640, 320)
 ACTOR_OF = {"horizon": "horizon", "ergosphere": "ergosphere", "photon_sphere": "photon_sphere", "throat": "waist",
             "our_sheet": "embedding", "other_sheet": "embedding", "surfaces": "surfaces",
             "other_surfaces": "surfaces", "camera": "camera", "rays": "rays", "highlight": "highlight",
-            "picked": "picked", "flat_rays": "flat_rays"}  # fmt: skip
+            "picked": "picked", "flat_rays": "flat_rays", "lights": "lights"}  # fmt: skip
 
 
 def black_hole_scene(metric=None, width=48, height=24):
@@ -433,3 +433,22 @@ def test_the_shipped_views_show_no_ray_above_the_good_line(scene):
     content = view_content(scene, spp=32)
     worst = float(np.nanmax(np.asarray(content.rays.point_data["log10_error_scaled"])))
     assert worst < np.log10(GOOD_DRIFT), (scene, worst)
+
+
+def test_point_and_spot_lights_are_drawn_with_a_spot_s_axis():
+    """Point and spot lights are never hit, so no surface shows them: the 3-D panel draws them as balls, a spot
+    with an arrow along its axis, and the legend says what they are."""
+    scene = black_hole_scene()
+    scene["lights"] = [{"type": "point", "position": [-10.0, -10.0, 10.0], "intensity": 50.0},
+                       {"type": "spot", "position": [10.0, -10.0, 10.0], "intensity": 50.0,
+                        "direction": [0.0, 0.0, -1.0], "angle": 25.0}]  # fmt: skip
+    plotter = wv.view(scene, off_screen=True, return_plotter=True, window_size=WINDOW, preview_width=16, spp=1)
+    try:
+        tv = plotter.teaching_view
+        actors = plotter.renderers[1].actors
+        assert "lights" in tv.drawn_items() and "lights" in actors and "light_axes" in actors
+        assert any(label.startswith("point and spot lights") for label, _ in tv.legend)
+        balls = actors["lights"].GetMapper().GetInput()
+        np.testing.assert_array_equal(np.asarray(balls.GetPoints().GetData()), [[-10.0, -10.0, 10.0], [10.0, -10.0, 10.0]])
+    finally:
+        plotter.close()

@@ -414,3 +414,24 @@ def test_camera_frustum_corners():
     assert wv.camera_frustum(cam).points[1][1] == pytest.approx(12.0)  # default length: distance to look_at
     with pytest.raises(ValueError, match="parallel"):
         wv.camera_frustum({**cam, "up": [0, 1, 0]})
+
+
+def test_point_and_spot_lights_are_a_block_of_points(tmp_path):
+    """Point and spot lights are never hit, so no surface shows them: the multiblock holds them as points (position,
+    colour, intensity, a spot's unit axis and half-angle, sheet), after the surfaces, and the .vtm keeps them."""
+    scene = small_scene()
+    scene["lights"] = [{"type": "point", "position": [1.0, 2.0, 3.0], "intensity": 5.0, "color": [1.0, 0.5, 0.25]},
+                       {"type": "spot", "position": [0.0, 0.0, 4.0], "intensity": 2.0, "direction": [0.0, 0.0, -3.0],
+                        "angle": 20.0, "sheet": 1}]  # fmt: skip
+    blocks = wv.scene_multiblock(native_scene=scene, resolution=8)
+    assert blocks.keys()[:2] == ["surfaces", "lights"]
+    lights = blocks["lights"]
+    np.testing.assert_array_equal(lights.points, [[1.0, 2.0, 3.0], [0.0, 0.0, 4.0]])
+    assert lights.n_cells == 2  # one vertex each
+    assert lights.point_data["spot"].tolist() == [0, 1] and lights.point_data["intensity"].tolist() == [5.0, 2.0]
+    assert lights.point_data["direction"].tolist() == [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0]]
+    assert lights.point_data["angle"].tolist() == [180.0, 20.0]
+    assert lights.point_data["color"][0].tolist() == [1.0, 0.5, 0.25]
+    back = pv.read(wv.save_scene_vtm(tmp_path / "lit.vtm", native_scene=scene, resolution=8))
+    assert back["lights"].point_data["angle"].tolist() == [180.0, 20.0]
+    assert "lights" not in wv.scene_multiblock(native_scene=small_scene(), resolution=8).keys()

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from warpviz.scene import camera_frustum, scene_surfaces
+from warpviz.scene import camera_frustum, scene_lights, scene_surfaces
 from warpviz.spacetime import (
     Metric,
     metric_features,
@@ -35,7 +35,8 @@ __all__ = ["BLOCK_NAMES", "save_scene_vtm", "scene_multiblock"]
 
 #: Names of the blocks :func:`scene_multiblock` can hold, in the order they appear.
 BLOCK_NAMES = (
-    "rays", "surfaces", "horizon", "ergosphere", "photon_sphere", "throat", "embedding", "embedding_rays", "camera",
+    "rays", "surfaces", "lights", "horizon", "ergosphere", "photon_sphere", "throat", "embedding", "embedding_rays",
+    "camera",
 )  # fmt: skip
 
 
@@ -75,7 +76,8 @@ def scene_multiblock(
     -------
     pyvista.MultiBlock
         Blocks in the order of :data:`BLOCK_NAMES`, only those that apply: ``rays`` (polylines),
-        ``surfaces`` (scene shapes with a ``material`` cell array), the landmarks of
+        ``surfaces`` (scene shapes with a ``material`` cell array), ``lights`` (the point and spot lights, never
+        hit: :func:`warpviz.scene.scene_lights`), the landmarks of
         :func:`warpviz.metric_features` (``horizon``, ``ergosphere``, ``photon_sphere``;
         ``throat``, ``embedding``), ``embedding_rays`` (a static spherical wormhole only: the rays mapped onto the
         embedding diagram with :func:`warpviz.wormhole_embedding_points`) and ``camera`` (the frustum
@@ -104,6 +106,8 @@ def scene_multiblock(
         blocks["rays"] = rays.to_pyvista() if isinstance(rays, RayBundle) else rays
     if native_scene is not None and native_scene.get("shapes"):
         blocks["surfaces"] = scene_surfaces(native_scene)
+    if native_scene is not None and native_scene.get("lights"):
+        blocks["lights"] = scene_lights(native_scene)
     if the_metric is not None:
         blocks.update(metric_features(the_metric, resolution=resolution))
     if the_metric is not None and "embedding" in blocks and "rays" in blocks and "sheet" in blocks["rays"].point_data:

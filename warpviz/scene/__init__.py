@@ -41,7 +41,7 @@ from warpviz.scene.native import native_scene
 from warpviz.scene.objects import MESH_SUFFIXES
 from warpviz.scene.reader import SceneError, key_name
 from warpviz.scene.settings import AOV_NAMES
-from warpviz.scene.surfaces import camera_frustum, scene_surfaces
+from warpviz.scene.surfaces import camera_frustum, scene_lights, scene_surfaces
 
 __all__ = [
     "AOV_NAMES",
@@ -64,6 +64,7 @@ __all__ = [
     "flat_camera_ray",
     "pinhole_directions",
     "camera_frustum",
+    "scene_lights",
     "scene_surfaces",
     "primitives",
     "textures",

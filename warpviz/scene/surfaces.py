@@ -1,4 +1,5 @@
-"""Display meshes of a native scene: its shapes as one surface and its camera as a frustum (PyVista polydata).
+"""Display meshes of a native scene: its shapes as one surface, its point and spot lights as points and its camera
+as a frustum (PyVista polydata).
 
 Examples
 --------
@@ -23,7 +24,7 @@ from warpviz.spacetime._meshes import _check_resolution, _join, _Piece, _revolve
 if TYPE_CHECKING:  # pragma: no cover
     import pyvista as pv
 
-__all__ = ["camera_frustum", "scene_surfaces"]
+__all__ = ["camera_frustum", "scene_lights", "scene_surfaces"]
 
 
 # --------------------------------------------------------------------------------------------------
@@ -166,6 +167,55 @@ def scene_surfaces(native_scene: Mapping[str, Any], *, resolution: int = 48) -> 
     materials = native_scene.get("materials") or []
     if materials:
         mesh.field_data["material_type"] = [str(m.get("type", "")) for m in materials]
+    return mesh
+
+
+def scene_lights(native_scene: Mapping[str, Any]) -> pv.PolyData | None:
+    """The point and spot lights of a native scene (``lights``) as points: they are never hit, so no surface
+    shows them.
+
+    Parameters
+    ----------
+    native_scene : dict
+        A native scene (``docs/native-scene.md``).
+
+    Returns
+    -------
+    pyvista.PolyData or None
+        None without lights; else one vertex per light at its position, (N, 3) float64, with point arrays
+        ``color`` (N, 3) and ``intensity`` (N,) (radiant intensity = intensity x color per steradian),
+        ``spot`` (N,) uint8 (1: a spot light), ``direction`` (N, 3) (a spot's unit axis, zeros for a point
+        light), ``angle`` (N,) (a spot's half-angle in degrees, 180 for a point light) and ``sheet`` (N,) int8.
+
+    Examples
+    --------
+    >>> lights = scene_lights({"lights": [{"type": "spot", "position": [0, 0, 5], "direction": [0, 0, -2],
+    ...                                     "intensity": 3.0, "angle": 30.0}]})
+    >>> lights.n_points, lights.point_data["direction"].tolist(), lights.point_data["angle"].tolist()
+    (1, [[0.0, 0.0, -1.0]], [30.0])
+    """
+    import pyvista as pv
+
+    lights = list(native_scene.get("lights") or [])
+    if not lights:
+        return None
+    n = len(lights)
+    points = np.array([light["position"] for light in lights], dtype=np.float64).reshape(n, 3)
+    mesh = pv.PolyData(points)  # (one vertex cell per point)
+    mesh.point_data["color"] = np.array([light.get("color", [1.0, 1.0, 1.0]) for light in lights], dtype=np.float64)
+    mesh.point_data["intensity"] = np.array([float(light["intensity"]) for light in lights])
+    spot = np.array([light.get("type") == "spot" for light in lights])
+    mesh.point_data["spot"] = spot.astype(np.uint8)
+    axis = np.zeros((n, 3))
+    for i, light in enumerate(lights):
+        if spot[i]:
+            d = np.asarray(light["direction"], dtype=np.float64)
+            axis[i] = d / np.linalg.norm(d)
+    mesh.point_data["direction"] = axis
+    spot_angle = float(SCHEMA["lights"]["spot"]["angle"])  # (the native default)
+    mesh.point_data["angle"] = np.array([float(light.get("angle", spot_angle)) if is_spot else 180.0
+                                         for light, is_spot in zip(lights, spot)])  # fmt: skip
+    mesh.point_data["sheet"] = np.array([int(light.get("sheet", 1)) for light in lights], dtype=np.int8)
     return mesh
 
 

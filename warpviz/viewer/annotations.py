@@ -75,6 +75,7 @@ LEGEND_STYLE = {
     "other_sheet": ("other sheet", "lightsalmon"),
     "surfaces": ("scene objects", "tan"),
     "other_surfaces": ("objects on the other side", "sandybrown"),
+    "lights": ("point and spot lights (arrow: a spot's axis)", "gold"),
     "camera": ("camera", "darkorange"),
     "rays": ("light paths (colour: see the bar)", "purple"),  # the window gives the drawn colour
     "highlight": ("selected pixel's paths", "magenta"),

@@ -55,6 +55,9 @@ class ViewContent:
         The native scene camera.
     surfaces : pyvista.PolyData or None
         Scene shapes read from a ``.vtm`` (otherwise built from ``native_scene`` when drawn).
+    lights : pyvista.PolyData or None
+        Point and spot lights read from a ``.vtm`` (otherwise built from ``native_scene`` when drawn:
+        :func:`warpviz.scene.scene_lights`).
     features : dict[str, pyvista.PolyData]
         Landmarks read from a ``.vtm`` (otherwise built from ``metric`` when drawn).
     pixel_labels : dict[tuple[int, int], str]
@@ -74,6 +77,7 @@ class ViewContent:
     native_scene: Mapping[str, Any] | None = None
     camera: Mapping[str, Any] | None = None
     surfaces: Any = None
+    lights: Any = None
     features: dict = field(default_factory=dict)
     pixel_labels: dict = field(default_factory=dict)
     source: Any = None
@@ -155,6 +159,8 @@ def _content_from_file(path: Path) -> ViewContent:
         content.metric = _metric_of_polydata(content.rays)
     if "surfaces" in names:
         content.surfaces = blocks["surfaces"]
+    if "lights" in names:
+        content.lights = blocks["lights"]
     if "camera" in names:
         content.camera = camera_from_frustum(blocks["camera"])
     content.features = {n: blocks[n] for n in ("horizon", "ergosphere", "photon_sphere", "throat", "embedding")

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from warpviz.scene import camera_frustum, flat_camera_ray, scene_surfaces
+from warpviz.scene import camera_frustum, flat_camera_ray, scene_lights, scene_surfaces
 from warpviz.spacetime import has_embedding, metric_features, wormhole_embedding, wormhole_embedding_points
 from warpviz.tracing import RayStatus
 from warpviz.viewer.annotations import (
@@ -292,6 +292,13 @@ class TeachingView(ImagePanel, Framing, Events):
                 drawn.append("surfaces")
                 focus.append(surfaces)
 
+        lights = content.lights
+        if lights is None and content.native_scene is not None:
+            lights = scene_lights(content.native_scene)
+        if lights is not None and lights.n_points:
+            self._draw_lights(p, lights, focus)
+            drawn.append("lights")
+
         if self.camera is not None:
             position = np.asarray(self.camera["position"], dtype=np.float64)
             if self._embedding:
@@ -460,6 +467,27 @@ class TeachingView(ImagePanel, Framing, Events):
         self._draw_rays()
         self.refresh()
         return self.bounces
+
+    def _draw_lights(self, p, lights, focus: list) -> None:
+        """Point and spot lights (never hit, so no surface shows them) as gold balls, each spot with an arrow
+        along its axis a tenth of the drawn scene's size long; on a wormhole's embedding diagram, the balls."""
+        import pyvista as pv
+
+        color = LEGEND_STYLE["lights"][1]
+        shown = lights
+        if self._embedding:
+            sheets = lights.point_data["sheet"] if "sheet" in lights.point_data else 1
+            shown = pv.PolyData(self._embed(np.asarray(lights.points, dtype=np.float64), sheets))
+        p.add_mesh(shown, color=color, point_size=14, render_points_as_spheres=True, pickable=False, name="lights")
+        focus.append(shown)
+        spots = np.asarray(lights.point_data["spot"]) == 1 if "spot" in lights.point_data else np.zeros(0, bool)
+        if self._embedding or not spots.any():
+            return
+        sizes = [m.length for m in focus if m.n_points > 1]
+        axes = pv.PolyData(np.asarray(lights.points, dtype=np.float64)[spots])
+        axes.point_data["direction"] = np.asarray(lights.point_data["direction"])[spots]
+        arrows = axes.glyph(orient="direction", scale=False, factor=0.1 * max(sizes, default=1.0), geom=pv.Arrow())
+        p.add_mesh(arrows, color=color, pickable=False, name="light_axes")
 
     def _embed(self, points: np.ndarray, sheet) -> np.ndarray:
         sheets = np.broadcast_to(np.asarray(sheet), (points.shape[0],))
