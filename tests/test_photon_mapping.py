@@ -194,3 +194,22 @@ def test_photons_per_pixel_add_the_whole_image_s_count_in_every_window_and_resum
         wv.render(sc, spp=4, seed=7, max_depth=6, photons=100, photons_per_pixel=0.5, resume=per_pixel)
     with pytest.raises(ValueError, match="photons_per_pixel"):
         wv.render(sc, spp=1, photons_per_pixel=-0.5)
+
+
+def test_a_metric_from_its_line_element_traces_its_photons_forward_in_time():
+    """A line element (Schwarzschild in Kerr-Schild form, compiled as a plugin) is not declared static, so its
+    photons are integrated forward in time, as Kerr's: the same scene as the Schwarzschild test above (the
+    blueshifted, focused caustic under a hole of M = 0.2), photons against the path tracer in that metric."""
+    from warpviz.spacetime.line_element.plugin import CompilerNotFoundError
+
+    from conftest import expression_metric
+
+    try:
+        m = expression_metric("ks_schwarzschild")
+    except CompilerNotFoundError as exc:  # pragma: no cover - every machine that built warpviz has one
+        pytest.skip(f"no C++ compiler: {exc}")
+    sc = mirror_lamp({"name": m.name, "params": [0.2]}, shift=(0.0, 0.0, 0.9))
+    photons = _image_means(sc, range(6), spp=16, max_depth=4, photons=3000, photon_radius=0.5)
+    traced = _image_means(sc, range(6, 12), spp=128, max_depth=4)
+    assert photons.mean() > 0.01
+    assert_same_mean(photons, traced, slack=0.02 * traced.mean())
