@@ -10,7 +10,9 @@ real render. The fixed cost of one task (sending it, the core's set-up of the sc
 summary back) is measured apart, where it is not lost in the render's noise: a 96x72 frame of the same
 scene at 2 spp, cut into 8-pixel tiles (216 tasks) and into one tile (2 tasks), best of three each; the
 difference in wall time times the workers over the difference in tasks is the cost of one task in
-worker time. A user chooses a tile size from it.
+worker time. A user chooses a tile size from it. The room's caustics by photons are left out
+(``photons_per_pixel=0``): every tile traces the whole image's photon pass, which would hide the tiles'
+own cost (a render with photons and no tile size gets a tile per task slot instead: docs/cluster.md).
 
     python benchmarks/bench_dask.py                 # 320x240, 16 spp: ~3 minutes on 2 cores
     python benchmarks/bench_dask.py --quick         # seconds
@@ -58,7 +60,7 @@ def main(argv: list[str] | None = None) -> int:
     from distributed import Client, LocalCluster
 
     w, h = args.size
-    kw = {"width": w, "height": h, "spp": args.spp, "progress": None, "aovs": []}
+    kw = {"width": w, "height": h, "spp": args.spp, "progress": None, "aovs": [], "photons_per_pixel": 0.0}
     print(machine_line(threads=0))
     rows = []
     t0 = time.perf_counter()

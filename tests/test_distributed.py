@@ -76,6 +76,11 @@ def test_a_photon_render_on_two_workers_is_the_local_one(cluster2):
     img = wv.render(scene, width=24, height=18, progress=None, spp=2, client=client, tile=8, photons=500)
     assert img.stats["photon_segments"] > 0
     assert_same_image(img, local)
+    # without a tile size, a tile per task slot (here the whole 24 x 18 window, within 128): each pass's photons
+    # are traced once, as locally, where 8-pixel tiles traced them 9 times
+    once = wv.render(scene, width=24, height=18, progress=None, spp=2, client=client, photons=500)
+    assert_same_image(once, local)
+    assert once.stats["photon_segments"] == local.stats["photon_segments"] < img.stats["photon_segments"]
 
 
 def test_one_worker_and_a_curved_wormhole_room_also(local_fig07):

@@ -43,5 +43,6 @@ CLUSTER = typer.Option(
 )  # fmt: skip
 TILE = typer.Option(
     None, "--tile", min=1, max=MAX_IMAGE_SIDE,
-    help="With --workers or --cluster: tile side in pixels, each tile's pass one task (default 128).",
+    help="With --workers or --cluster: tile side in pixels, each tile's pass one task (default 128; with photons "
+    "one tile per task slot, each tracing the whole image's photon passes).",
 )  # fmt: skip

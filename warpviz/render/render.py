@@ -296,8 +296,8 @@ def render(
         task (default 1: run one single-threaded worker per core). Every worker must run this warpviz
         build (checked first, a ValueError naming the worker).
     tile : int, optional, keyword-only
-        With ``client``: the tiles' side in pixels (default
-        :data:`warpviz.render.distributed.DEFAULT_TILE`, 128).
+        With ``client``: the tiles' side in pixels (default :data:`warpviz.render.distributed.DEFAULT_TILE`, 128;
+        with photons, a tile per task slot: :func:`warpviz.render.distributed.default_tile`).
 
     Returns
     -------
@@ -372,10 +372,10 @@ def render(
     if tile is not None and client is None:
         raise ValueError("tile is the tile size of a render on a Dask cluster: it needs client=")
     if client is not None:
-        from warpviz.render.distributed import DEFAULT_TILE, tile_windows
+        from warpviz.render.distributed import tile_windows
 
-        tile = DEFAULT_TILE if tile is None else tile
-        tile_windows((0, 0, 1, 1), tile)  # checks it
+        if tile is not None:
+            tile_windows((0, 0, 1, 1), tile)  # checks it
         if not hasattr(client, "submit") or not hasattr(client, "nthreads"):
             raise ValueError(f"client must be a dask.distributed.Client, got {type(client).__name__}")
     # The samples per pixel to reach: spp, or with a time budget or noise target and no spp, as many as
@@ -437,10 +437,13 @@ def render(
     pass_samples = PASS_SAMPLES
 
     if client is not None:  # the same passes, each one's tiles as tasks on the cluster
-        from warpviz.render.distributed import TiledPasses, check_workers
+        from warpviz.render.distributed import TiledPasses, check_workers, default_tile
 
         check_workers(client)
         core_options["threads"] = options["threads"] or 1
+        if tile is None:  # (with photons: a tile per task slot, each tracing the whole image's photon passes)
+            photons = options["photons"] > 0 or options["photons_per_pixel"] > 0
+            tile = default_tile((cw, ch), slots=sum(client.nthreads().values()), photons=photons)
         render_range = TiledPasses(client, native, core_options, tile=tile, metric=metric)
         pass_samples = render_range.pass_samples
         if not limited:  # the passes are known: each one's successors queue behind it
