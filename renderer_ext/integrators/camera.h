@@ -36,6 +36,7 @@ class CameraRays {
       throw std::invalid_argument("camera position has no static or ZAMO observer");
     }
     const LinearMap L = geo.local_map(x4, f);
+    to_local_ = L;
     forward_ = normalize(L(c.look_at - c.position));
     V3 up = L(c.up);
     right_ = normalize(cross(forward_, up));
@@ -95,6 +96,23 @@ class CameraRays {
     return normalize(forward_ + right_ * sx + up_ * sy);
   }
 
+  // Continuous pixel coordinates (x, y) of the camera ray along local direction d (direction_at's inverse);
+  // false for a direction behind the image plane.
+  bool pixel_of(V3 d, double& x, double& y) const {
+    const Camera& cam = c_;
+    const double f = dot(d, forward_);
+    if (!(f > 0.0)) return false;
+    const double aspect = double(cam.width) / cam.height;
+    x = 0.5 * cam.width * (dot(d, right_) / (f * tan_half_ * aspect) + 1.0);
+    y = 0.5 * cam.height * (1.0 - dot(d, up_) / (f * tan_half_));
+    return std::isfinite(x) && std::isfinite(y);
+  }
+
+  // User-frame displacement at the camera -> its observer's local frame; whether that observer is the
+  // local static one (not a moving camera's).
+  const LinearMap& to_local() const { return to_local_; }
+  bool static_observer() const { return !moving_; }
+
   // The viewing frame in the local observer's frame at the camera.
   V3 forward() const { return forward_; }
   V3 right() const { return right_; }
@@ -106,6 +124,7 @@ class CameraRays {
   bool moving_ = false;  // held by an observer other than the local static one (start_.f is its frame)
   V3 forward_, right_, up_;
   double tan_half_ = 1.0;
+  LinearMap to_local_;
 };
 
 }  // namespace wv

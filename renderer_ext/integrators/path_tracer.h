@@ -629,6 +629,59 @@ class PathTracer {
   // emission is noisy however it is covered, and gets the edge samples as an edge pixel does. `hit.shape`: a
   // signature of where every followed branch ends (the user's shape it hits, or how it leaves: escaped on its
   // sheet, captured, failed), so neighbouring probes differ where an outline or an image of one lies between.
+  // Where the lights' lensed images fall, for the render loop's edge pixels (render_loop.h, pixel_classes): in a
+  // static spherical metric seen by a static camera, points on every light (a grid by area, a sphere's both
+  // halves; about kMarkGrid^2 points shared by all lights) are mapped through the exact lens map from the camera
+  // (orders 0 to kMarkOrders - 1) into pixels. Returns, for each pixel of the window (X0, Y0, W, H) row by row,
+  // the image coordinates (x, y) of the first image point that fell in it, NaN where none did (2 W H values), or
+  // nothing where the map does not apply. A thin lensed arc of a light (the sun squeezed against a throat's rim,
+  // a lamp round a hole's far side) is narrower than the probes' half-pixel lattice, which misses it; a probe
+  // through the point itself finds it (or finds it hidden). Found from the scene alone, so the classes stay
+  // independent of the samples.
+  static constexpr int kMarkOrders = 2, kMarkGrid = 48;  // (order 2 is a ring ~1/500 of order 1's brightness)
+  std::vector<double> light_image_points(int X0, int Y0, int W, int H) const {
+    std::vector<double> at;
+    if constexpr (M::kStaticSpherical) {
+      const SphericalLens& lens = lens_.lens();
+      const V3 cam = sc_.camera.position;
+      if (!camera_.static_observer() || !(lens.u_inner > 0.0) || !(length(cam) * lens.u_inner > 1.05)) return at;
+      LensVertex v;
+      v.pos = cam;
+      v.sheet = sc_.camera.sheet;
+      v.to_local = camera_.to_local();
+      v.radial_local = normalize(v.to_local(normalize(cam)));
+      at.assign(2 * size_t(W) * H, NAN);
+      const int grid = std::max(8, int(kMarkGrid / std::sqrt(double(std::max<size_t>(1, sc_.lights.size())))));
+      for (const int p : sc_.lights) {
+        const bool sphere = sc_.prims[p].kind == PrimKind::kSphere;
+        for (int half = 0; half < (sphere ? 2 : 1); ++half) {
+          const V3 from = half == 0 ? cam : sc_.spheres[sc_.prims[p].index].center * 2.0 - cam;
+          for (int i = 0; i < grid; ++i)
+            for (int j = 0; j < grid; ++j) {
+              LightPoint lp;
+              if (!sample_light_point(sc_, p, from, (i + 0.5) / grid, (j + 0.5) / grid, lp)) continue;
+              const LensLight b{lp.pos, lp.normal, lp.area, sc_.prims[p].sheet, true};
+              const LensImageRays rays = lens_image_rays(lens, v, b, kMarkOrders);
+              for (int k = 0; k < rays.n; ++k) {
+                double x, y;
+                if (!camera_.pixel_of(rays.ray[k].w, x, y)) continue;
+                const double px = std::floor(x) - X0, py = std::floor(y) - Y0;
+                if (!(px >= 0 && py >= 0 && px < W && py < H)) continue;
+                const size_t c = size_t(py) * W + size_t(px);
+                if (std::isnan(at[2 * c])) {
+                  at[2 * c] = x;
+                  at[2 * c + 1] = y;
+                }
+              }
+            }
+        }
+      }
+    } else {
+      (void)X0, (void)Y0, (void)W, (void)H;
+    }
+    return at;
+  }
+
   static constexpr int kProbeSpecular = 6, kProbeLeaves = 16;
   static constexpr double kProbeShare = 1e-3;
   Task<void> probe(double x, double y, RenderStats& st, Scheduler* sched, ProbeHit& hit) const {
@@ -792,7 +845,8 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
   auto probe = [&pt](double x, double y, RenderStats& st, SampleScheduler<M, S>* sched, ProbeHit& hit) {
     return pt.probe(x, y, st, sched, hit);
   };
-  RenderResult r = render_passes<M, S>(m, sc.camera, o, sample, probe, emitters, photon_pass);
+  auto images = [&pt](int X0, int Y0, int W, int H) { return pt.light_image_points(X0, Y0, W, H); };
+  RenderResult r = render_passes<M, S>(m, sc.camera, o, sample, probe, emitters, photon_pass, images);
   r.guide = guide;
   r.guide_segments = training.segments;
   r.segments += training.segments + photon_stats.segments;

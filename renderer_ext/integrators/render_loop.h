@@ -78,7 +78,7 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
 template <class M, class S, class Probe>
 std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, int Y0, int W, int H,
                                    const Probe& probe, bool edges, bool details, const std::function<bool()>& poll,
-                                   bool& cancelled, RenderStats& stats) {
+                                   bool& cancelled, RenderStats& stats, const std::vector<double>& images = {}) {
   const size_t LW = size_t(2 * W + 1), LH = size_t(2 * H + 1), n = LW * LH;
   std::vector<ProbeHit> hit(n);
   constexpr size_t kChunk = 256;  // lattice points per parallel task
@@ -99,6 +99,32 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
   cancelled = !parallel_for((n + kChunk - 1) / kChunk, o.threads, 1, body, poll);
   std::vector<int64_t> classes;
   if (cancelled) return classes;
+  // A light's image point (images: light_image_points) in a pixel none of whose lattice probes sees a light:
+  // one more probe through that point says whether the image is seen there (not hidden): a thin lensed arc.
+  std::vector<size_t> arc_pixels;
+  std::vector<ProbeHit> arc_hit;
+  if (edges && !images.empty()) {
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const size_t c = size_t(y) * W + size_t(x);
+        if (std::isnan(images[2 * c])) continue;
+        bool dark = true;
+        for (int j = 0; j < 3 && dark; ++j)
+          for (int i = 0; i < 3 && dark; ++i) dark = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)].light == 0;
+        if (dark) arc_pixels.push_back(c);
+      }
+    arc_hit.resize(arc_pixels.size());
+    RenderStats st;
+    auto make = [&](size_t k, SampleScheduler<M, S>* sched) {
+      const size_t c = arc_pixels[k];
+      return probe(images[2 * c], images[2 * c + 1], st, sched, arc_hit[k]);
+    };
+    run_samples<M, S>(m, o.batch, arc_pixels.size(), make);
+    for (int k = 0; k < 6; ++k) stats.counts[k] += st.counts[k];
+    stats.steps += st.steps;
+    stats.segments += st.segments;
+  }
+  size_t next_arc = 0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const ProbeHit& h0 = hit[size_t(2 * y) * LW + size_t(2 * x)];
@@ -109,6 +135,8 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
           edge = edge || (edges && h.light != h0.light);  // (h0 is not mixed here, so a mixed point differs)
           detail = detail || (details && h.shape != h0.shape);
         }
+      const size_t c = size_t(y) * W + size_t(x);
+      if (next_arc < arc_pixels.size() && arc_pixels[next_arc] == c) edge = edge || arc_hit[next_arc++].light != 0;
       if (edge || detail)
         classes.push_back(kPixelClasses * (int64_t(y) * W + x) + (edge ? kEdgePixel : kDetailPixel));
     }
@@ -133,7 +161,8 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
 template <class M, class S, class Sample, class Probe>
 RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o, const Sample& sample,
                            const Probe& probe, bool probe_lights,
-                           const std::function<bool(int64_t)>& photon_pass = {}) {
+                           const std::function<bool(int64_t)>& photon_pass = {},
+                           const std::function<std::vector<double>(int, int, int, int)>& light_images = {}) {
   RenderResult out;
   const bool whole = o.crop[2] <= 0 || o.crop[3] <= 0;
   const int X0 = whole ? 0 : o.crop[0], Y0 = whole ? 0 : o.crop[1];
@@ -187,7 +216,8 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
     }
   } else if (find_edges || find_details) {
     bool cancelled = false;
-    classes = pixel_classes<M, S>(m, o, X0, Y0, W, H, probe, find_edges, find_details, poll, cancelled, probes);
+    const std::vector<double> images = find_edges && light_images ? light_images(X0, Y0, W, H) : std::vector<double>();
+    classes = pixel_classes<M, S>(m, o, X0, Y0, W, H, probe, find_edges, find_details, poll, cancelled, probes, images);
     if (cancelled || stopped) {
       out.completed = false;
       return out;
