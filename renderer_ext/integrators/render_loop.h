@@ -92,9 +92,7 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
     };
     run_samples<M, S>(m, o.batch, k1 - k0, make);
     const std::lock_guard<std::mutex> lock(stats_mutex);
-    for (int k = 0; k < 6; ++k) stats.counts[k] += st.counts[k];
-    stats.steps += st.steps;
-    stats.segments += st.segments;
+    stats.add(st);
   };
   cancelled = !parallel_for((n + kChunk - 1) / kChunk, o.threads, 1, body, poll);
   std::vector<int64_t> classes;
@@ -120,9 +118,7 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
       return probe(images[2 * c], images[2 * c + 1], st, sched, arc_hit[k]);
     };
     run_samples<M, S>(m, o.batch, arc_pixels.size(), make);
-    for (int k = 0; k < 6; ++k) stats.counts[k] += st.counts[k];
-    stats.steps += st.steps;
-    stats.segments += st.segments;
+    stats.add(st);
   }
   size_t next_arc = 0;
   for (int y = 0; y < H; ++y)

@@ -118,6 +118,12 @@ struct RecordedSegment {
 struct RenderStats {
   int64_t counts[6] = {0, 0, 0, 0, 0, 0};
   int64_t steps = 0, segments = 0;
+
+  void add(const RenderStats& o) {
+    for (int k = 0; k < 6; ++k) counts[k] += o.counts[k];
+    steps += o.steps;
+    segments += o.segments;
+  }
 };
 
 struct RenderResult {

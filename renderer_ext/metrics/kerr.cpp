@@ -103,15 +103,10 @@ struct Kerr : MetricBase<Kerr> {
   }
 
   double radius(const double* x) const { return bl_radius(x[1], x[2], x[3]); }
-  // The Schwarzschild lens map of the same mass, where the light connection starts each image's Newton
-  // search (integrators/light_connection.h).
+  // The Schwarzschild lens map of the same mass: the light connection's proposal (integrators/lens_proposal.h)
+  // and where the image proxies start their Newton search (integrators/light_connection.h).
   static constexpr bool kLensProxy = true;
-  SphericalLens lens_proxy() const {
-    SphericalLens s;
-    s.a[1] = -2.0 * M;
-    s.u_inner = 1.0 / (3.0 * M);
-    return s;
-  }
+  SphericalLens lens_proxy() const { return SphericalLens::schwarzschild(M); }
   double horizon_radius() const { return r_plus; }
   // Halfway between the horizon and the prograde equatorial photon orbit (the innermost one).
   double capture_radius() const { return r_plus + 0.5 * (photon_orbit(-1.0) - r_plus); }

@@ -86,12 +86,7 @@ struct Schwarzschild : MetricBase<Schwarzschild> {
 
   // Static and spherical: A = 1 - 2M u, h = 1, rays below the photon sphere's impact parameter fall in.
   static constexpr bool kStaticSpherical = true;
-  SphericalLens spherical_lens() const {
-    SphericalLens s;
-    s.a[1] = -2.0 * M;
-    s.u_inner = 1.0 / (3.0 * M);
-    return s;
-  }
+  SphericalLens spherical_lens() const { return SphericalLens::schwarzschild(M); }
 
   void conserved(const double y[8], const HamiltonianParts& /*hp*/, double out[], double mag[]) const {
     spherical_conserved(y, out, mag);

@@ -52,6 +52,15 @@ struct SphericalLens {
   double u_inner = 0.0;
   bool throat = false;
 
+  // Schwarzschild's of mass m (A = 1 - 2m u, rays below the photon sphere u = 1/3m fall in): its own lens, and
+  // the proxy of Kerr and of a line element that gives a mass.
+  static SphericalLens schwarzschild(double m) {
+    SphericalLens s;
+    s.a[1] = -2.0 * m;
+    s.u_inner = 1.0 / (3.0 * m);
+    return s;
+  }
+
   // M where P is Schwarzschild's cubic, 1 - b^2 u^2 + 2M b^2 u^3 (A = 1 - 2M u, h = 1), else 0: then its
   // integrals are Carlson's R_F of its roots (LensMap) and its orbits elliptic functions (planar_orbit.h).
   double cubic_mass() const {

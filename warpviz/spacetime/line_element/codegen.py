@@ -360,13 +360,9 @@ def _landmark_lines(le: LineElement, landmarks: Mapping[str, sympy.Basic]) -> li
         # that mass is the light connection's proposal, as Kerr's (integrators/lens_proposal.h; any metric
         # keeps the mean, one near Schwarzschild's lowers the noise).
         lines += ["  static constexpr bool kLensProxy = true;",
-                  "  SphericalLens lens_proxy() const {",
+                  "  SphericalLens lens_proxy() const {  // (no mass: no proxy, the proposal stays off)",
                   f"    const double m = {text['mass']};",
-                  "    SphericalLens s;",
-                  "    if (!(m > 0.0)) return s;  // (no proxy: the proposal then stays off)",
-                  "    s.a[1] = -2.0 * m;",
-                  "    s.u_inner = 1.0 / (3.0 * m);",
-                  "    return s;",
+                  "    return m > 0.0 ? SphericalLens::schwarzschild(m) : SphericalLens{};",
                   "  }"]  # fmt: skip
     extra = [f"    l.{k} = {text[k]};" for k in ("inner_horizon", "photon_sphere", "throat", "mass") if k in text]
     if extra:
