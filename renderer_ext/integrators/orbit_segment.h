@@ -348,9 +348,16 @@ class OrbitSegments {
           q = pos(phi);
           return s.sc_.implicit_at(p, q);
         };
+        // The chord's entry (and exit, from a ball) as azimuths: where the chord's point lies round the centre.
+        auto phi_at = [&](double t) {
+          const V3 x = a.x + d * t;
+          const double cx = dot(x, e1), cy = dot(x, e2);
+          return a.phi + std::atan2(a.px * cy - a.py * cx, a.px * cx + a.py * cy);
+        };
+        const double out = chord_exit(s.sc_, p, a.x, d, hits[k].t);
         double th;
-        if (curve_crossing(f, [&] { return 1e-12 * (1.0 + length(q)); }, a.phi, b.phi,
-                           a.phi + hits[k].t * (b.phi - a.phi), th)) {
+        if (curve_crossing(f, [&] { return 1e-12 * (1.0 + length(q)); }, a.phi, b.phi, phi_at(hits[k].t), th,
+                           out > 0.0 ? phi_at(out) : -1.0)) {
           if (skipped(p, pos(th))) continue;
           prim = p;
           phi_hit = th;

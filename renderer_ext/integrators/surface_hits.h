@@ -15,11 +15,14 @@ namespace wv {
 
 // Where a curve parametrised by t in [ta, tb] first crosses a surface, f(t) its implicit function there
 // (a distance), starting the search from the chord's estimate tg: scan from ta for the first sign change,
-// probing near tg first (and finely if the chord crossed twice within a probe interval), then the Illinois
-// crossing to within 1e-14 in t or ftol() in f, ftol evaluated after the scan. False: the curve misses what
-// the chord grazed.
+// probing near tg first, then (where the chord left the shape again, at the estimate tg_out > tg) across the
+// chord's span inside it, then finely over [ta, tb]; then the Illinois crossing to within 1e-14 in t or ftol()
+// in f, ftol evaluated after the scan. False: the curve misses what the chord grazed. The span's probes find a
+// small ball that a long chord passes through with both ends outside it, which the fine scan's 32 probes step
+// over (a ball behind a hole, lensed into thin arcs).
 template <class F, class Tol>
-bool curve_crossing(const F& f, const Tol& ftol, double ta, double tb, double tg, double& theta) {
+bool curve_crossing(const F& f, const Tol& ftol, double ta, double tb, double tg, double& theta,
+                    double tg_out = -1.0) {
   const double fa = f(ta), width = tb - ta;
   double lo = ta, flo = fa, hi = -1.0, fhi = 0.0;
   auto scan = [&](const double* ts, int n) {
@@ -41,13 +44,27 @@ bool curve_crossing(const F& f, const Tol& ftol, double ta, double tb, double tg
     return false;
   };
   const double probes[] = {tg - 0.02 * width, tg + 0.02 * width, tg + 0.1 * width, tb};
-  if (!scan(probes, 4)) {
+  bool found = scan(probes, 4);
+  if (!found && tg_out > tg) {
+    constexpr int kSpan = 16;
+    double span[kSpan];
+    for (int i = 0; i < kSpan; ++i) span[i] = tg + (tg_out - tg) * (i + 0.5) / kSpan;
+    found = scan(span, kSpan);
+  }
+  if (!found) {
     double fine[32];
     for (int i = 0; i < 32; ++i) fine[i] = ta + width * (i + 1) / 32.0;
     if (!scan(fine, 32)) return false;
   }
   theta = crossing(f, lo, flo, hi, fhi, 1e-14, ftol());
   return true;
+}
+
+// Where the chord o + t d, having entered primitive p at t, leaves it again before t = 1 (a closed shape: a
+// ball, a cylinder), or -1.
+inline double chord_exit(const Scene& sc, int p, V3 o, V3 d, double t) {
+  double t2;
+  return sc.intersect_prim(p, o, d, t + 1e-9, 1.0, t2) ? t2 : -1.0;
 }
 
 // The hits of the chord o + t d, t in (0, 1), on candidate primitives of `sheet`, nearest first (into hits,
@@ -154,7 +171,9 @@ struct SceneSurfaces {
           nh = chord_hits(sc, pa, d, cand, nc, sa, skip_hit, hits);
         }
         for (int c = 0; c < nh; ++c) {
-          if (refine(st, y, ynew, h, sheet, hits[c].prim, ta, tb, ta + hits[c].t * (tb - ta), theta)) {
+          const double out = chord_exit(sc, hits[c].prim, pa, d, hits[c].t);
+          if (refine(st, y, ynew, h, sheet, hits[c].prim, ta, tb, ta + hits[c].t * (tb - ta), theta,
+                     out > 0.0 ? ta + out * (tb - ta) : -1.0)) {
             prim = hits[c].prim;
             return true;
           }
@@ -170,7 +189,7 @@ struct SceneSurfaces {
   // the search from the chord's estimate tg.
   template <class S>
   bool refine(const S& st, const double* y, const double* ynew, double h, int sheet, int p, double ta, double tb,
-              double tg, double& theta) const {
+              double tg, double& theta, double tg_out) const {
     double ys[8], q[3];
     auto f = [&](double t) {
       st.dense(y, ynew, h, t, ys);
@@ -178,7 +197,7 @@ struct SceneSurfaces {
       return sc.implicit_at(p, V3(q));
     };
     // |f| is a distance (unit-normal planes, |p - c| - R for spheres): stop at 1e-12 M
-    return curve_crossing(f, [&] { return 1e-12 * (1.0 + length(V3(q))); }, ta, tb, tg, theta);
+    return curve_crossing(f, [&] { return 1e-12 * (1.0 + length(V3(q))); }, ta, tb, tg, theta, tg_out);
   }
 };
 
