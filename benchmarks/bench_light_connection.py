@@ -16,6 +16,8 @@ line_element_kerr_newman (Kerr-Newman from its line element), each rendered with
                     proposal (``light_connection="images"``: the default before it),
 * ``lens, no photons`` (the rooms with a mirror and a glass ball) the same without their caustics by photons
                     (``photons_per_pixel=0``; the scenes ask for 0.3 per pixel),
+* ``lens, no camera lights`` (the static spherical rooms) the same without the camera's own light samples
+                    in the pixels where a light's image is small (``camera_light_samples=False``),
 * ``lens, no edge`` the same with ``edge_samples=1`` (every pixel gets spp samples),
 * ``lens, jitter``  the same with uniform jitter in the pixel (``pixel_sampler="independent"``),
 * ``aimed, jitter`` the renderer before this work: flat-space proxies aimed by pilot geodesics, jitter,
@@ -71,6 +73,7 @@ ESTIMATORS = {
     "aimed, jitter": {"light_connection": "aimed", "pixel_sampler": "independent", "edge_samples": 1,
                       "guide_training": 0, "photons_per_pixel": 0.0},
     "lens, no photons": {"photons_per_pixel": 0.0},  # the rooms' caustics by photons (0.3 per pixel) off
+    "lens, no camera lights": {"camera_light_samples": False},  # the camera's own light samples off
     "brute": {"light_sampling": False, "guide_training": 0, "photons_per_pixel": 0.0},
     "brute, jitter": {"light_sampling": False, "pixel_sampler": "independent", "guide_training": 0,
                       "photons_per_pixel": 0.0},
@@ -85,7 +88,8 @@ ROOMS = {"fig07": False, "fig10d": False, "fig12": False, "fig13": False, "line_
 #: Estimators measured in some rooms only: name -> those rooms (elsewhere they equal another).
 ONLY_IN = {"images": {"fig10d", "line_element_kerr_newman"}, "lens, unguided": {"fig12"},
            "lens, guided": {"fig07", "fig10d", "fig13"},
-           "lens, no photons": {"fig07", "fig10d", "line_element_kerr_newman"}}
+           "lens, no photons": {"fig07", "fig10d", "line_element_kerr_newman"},
+           "lens, no camera lights": {"fig07", "fig12", "fig13"}}  # (static spherical rooms: elsewhere the same)
 
 
 def _scene(room: str) -> str:

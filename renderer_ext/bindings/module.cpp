@@ -334,6 +334,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
     o.light_connection = lc == "lens" ? wv::kLensConnection : lc == "images" ? wv::kImageConnection : wv::kAimedConnection;
   }
   o.lens_images = option<int>(options, "lens_images");
+  o.camera_light_samples = option<bool>(options, "camera_light_samples");
   {
     const std::string ps = option<std::string>(options, "pixel_sampler");
     if (ps != "sobol" && ps != "independent")

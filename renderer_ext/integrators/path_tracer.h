@@ -28,6 +28,7 @@
 //   chart_geometry.h    user frame, chart and local observer frame; backward start states
 //   emission.h          emitted radiance with redshift and beaming
 //   lens_connection.h   the lens-aware light strategy of static spherical metrics and its pdf
+//   camera_connection.h the camera's own light samples, in the pixels where a light's lensed image is small
 //   light_connection.h  the light strategy's proxies, aimed by pilot geodesics (Kerr: image proxies)
 //   guide_tree.h        path guiding's learned distribution over space and the local sky
 //   guide_training.h    its training iterations
@@ -50,6 +51,7 @@
 #include "film/film.h"
 #include "film/pixel_filter.h"
 #include "integrators/camera.h"
+#include "integrators/camera_connection.h"
 #include "integrators/chart_geometry.h"
 #include "integrators/emission.h"
 #include "integrators/guide_training.h"
@@ -95,7 +97,8 @@ class PathTracer {
 
   PathTracer(const M& m, const Scene& sc, const RenderOptions& o, Guiding g = {}, Caustics c = {})
       : sc_(sc), o_(o), camera_(m, sc.camera), filter_(o.filter, o.filter_radius), segments_(m, sc, o), lights_(m, sc, o, segments_.options()),
-        emission_(m, sc), lens_(m, sc, o.lens_images, o.light_connection == kLensConnection), guide_(g.tree),
+        emission_(m, sc), lens_(m, sc, o.lens_images, o.light_connection == kLensConnection),
+        camera_lights_(sc, o, camera_, lens_, !g.train), guide_(g.tree),
         train_(g.train), seed_(g.train ? g.seed : o.seed), caustics_(c), point_frames_(point_light_frames(m, sc)),
         pixel_angle_(2.0 * std::tan(sc.camera.fov * M_PI / 360.0) / std::max(1, sc.camera.height)) {}
 
@@ -197,6 +200,37 @@ class PathTracer {
       jy = rng.uniform();
     }
     return camera_.direction_sample(px, py, jx, jy, filter_, weight);
+  }
+
+  // The camera's own light sample for sample s of pixel (px, py) (camera_connection.h), from random numbers of
+  // its own (the path's are those of a pixel without it): a point on a light, and the ray of each of its images
+  // that lands in the pixel traced from the camera; one that first hits that point adds the light's emission
+  // weighted by the balance heuristic against the camera ray, 1 / (1 + rho). Recorded as light segments.
+  static constexpr uint64_t kCameraLightSeed = 0x5bd1e9955bd1e995ULL;
+  Task<void> camera_light(int px, int py, size_t pix, int s, PathState& ps, RenderStats& st, Scheduler* sched) const {
+    Rng rng(seed_ ^ kCameraLightSeed, pix, uint64_t(s));
+    const double u0 = rng.uniform();
+    double u1, u2;  // the point on the light: stratified over the pixel's samples as the camera rays are
+    if (o_.pixel_sampler == kSobolPixels) {
+      pixel_sample(seed_ ^ kCameraLightSeed, pix, uint64_t(s), u1, u2);
+    } else {
+      u1 = rng.uniform();
+      u2 = rng.uniform();
+    }
+    CameraShot shot[LensImages::kMax];
+    const int n = camera_lights_.sample(px, py, u0, u1, u2, shot);
+    for (int k = 0; k < n; ++k) {
+      PathFrames<M> frames;
+      if constexpr (!M::kFlat) {
+        frames.e[0] = camera_.start();
+        frames.n = frames.next = 1;
+      }
+      Track* track = ps.open();
+      SegmentEnd e;
+      co_await segments_.segment(sc_.camera.position, sc_.camera.sheet, shot[k].w, -1, track, st, frames, sched, e);
+      ps.close(e, sc_.camera.sheet, 0, kLightSegment);
+      if (lens_.light_sample_hits(e, shot[k].prim, shot[k].target)) ps.add(emission_.emission(e) / (1.0 + shot[k].rho));
+    }
   }
 
   // The light strategy at diffuse vertex e (pbrt's SampleLd): one light, chosen evenly or as the guide's leaf
@@ -486,6 +520,7 @@ class PathTracer {
     bool features_done = film.albedo_sum.empty() && film.albedo_normal_sum.empty();
     V3 L_sharp{0, 0, 0};  // ps.L up to and at the first non-specular hit (the emission AOV)
     bool sharp = !film.emission_sum.empty();
+    const bool camera_lights = camera_lights_.applies(px, py);  // the camera's own light samples (after the path)
     Aim aimed;  // the light proxies of the path's last diffuse vertex (aimed connection)
     // Caustics by photons: every diffuse vertex gathers them, so the path tracer leaves out the emission of a
     // photon light reached from the last diffuse vertex through specular vertices only (`specular`).
@@ -514,6 +549,9 @@ class PathTracer {
         const double pl = lights_.lights_pdf(aimed, ps.aimed_w, ps.select);
         ps.mis = ps.aimed_pb / (ps.aimed_pb + pl);
       }
+      // A light seen directly in a pixel where the camera draws light samples of its own: the balance heuristic.
+      if (bounce == 0 && camera_lights && e.status == kHit && max_component(Le) > 0.0)
+        ps.mis = 1.0 / (1.0 + camera_lights_.rho(px, py, d, e.prim, e.pos));
       if (!(gathered && specular && e.status == kHit && caustics_.tracer->sends_photons(e.prim)))
         ps.add_emission(Le);  // (else a caustic path: the photons')
       if (sharp) L_sharp = ps.L;
@@ -587,6 +625,11 @@ class PathTracer {
       sheet = e.sheet;
       d = bs.wi;
       skip = e.prim;
+    }
+    if (camera_lights) {  // directly seen light (also the emission AOV's)
+      const V3 before = ps.L;
+      co_await camera_light(px, py, pix, s, ps, st, sched);
+      L_sharp += ps.L - before;
     }
     V3 L = ps.L;
     if (cam.shift != kShiftNone) {  // the camera's own shift, on all it saw but emitters that shift their own
@@ -784,6 +827,7 @@ class PathTracer {
   LightConnection<M, S> lights_;  // after segments_, whose trace options its pilots start from
   Emission<M> emission_;
   LensConnection<M> lens_;
+  CameraConnection<M> camera_lights_;  // the camera's own light samples (after camera_ and lens_, which it uses)
   const GuideTree* guide_;  // path guiding's tree, or null
   bool train_;              // a training iteration's tracer: its paths record for the next tree
   uint64_t seed_;           // the seed of every random number (the render's, or the training iteration's)

@@ -49,6 +49,7 @@ struct RenderOptions {
   bool light_margin = false;  // ... and enlarge quad and disk proxies by that shift (lensed images are larger)
   int light_connection = kLensConnection;
   int lens_images = 0;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
+  bool camera_light_samples = false;  // ... and the camera's own light samples where a light's image is small
   int pixel_sampler = kSobolPixels;
   // Pixels on the edge of a light seen directly or in mirrors and glass, or seeing one in glass by some
   // samples' Fresnel choice only, get edge_samples x spp samples: the lamp's edge inside a pixel (a lensed

@@ -81,6 +81,7 @@ def render(
     tol: float | None = None,
     light_connection: str | None = None,
     lens_images: int | None = None,
+    camera_light_samples: bool | None = None,
     pixel_sampler: str | None = None,
     edge_samples: int | None = None,
     detail_samples: int | None = None,
@@ -157,6 +158,13 @@ def render(
         Image orders the lens connection samples, 1-4 (default 2: the direct image and the one round the
         far side of the hole; each further order is ~e^(-2 pi) dimmer). Higher orders are found by BSDF
         sampling alone.
+    camera_light_samples : bool, optional, keyword-only
+        In a static spherical metric seen by a static camera, with the lens connection and the box filter:
+        in the pixels where a light's lensed image is small (a sun far away, a lamp's thin arc round a hole
+        or a throat's rim), each camera sample also draws a point on a light, maps it through the exact lens
+        map into the image and, where it lands in the pixel, traces that ray; weighted against the camera
+        rays by the balance heuristic (default True; unbiased either way). A sub-pixel sun's pixel is then
+        several times less noisy. Which pixels, and which lights there, follow from the scene alone.
     pixel_sampler : {"sobol", "independent"}, optional, keyword-only
         Where a camera sample falls in its pixel. ``"sobol"`` (default): the pixel's Owen-scrambled Sobol
         sequence, stratified for every sample count, so edges inside a pixel (a lensed lamp, the shadow's
@@ -327,6 +335,7 @@ def render(
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
                  "stepper": stepper, "tol": tol, "aim_lights": aim_lights,
                  "light_connection": light_connection, "lens_images": lens_images,
+                 "camera_light_samples": camera_light_samples,
                  "pixel_sampler": pixel_sampler, "edge_samples": edge_samples, "detail_samples": detail_samples,
                  "filter": filter,
                  "filter_radius": filter_radius, "light_margin": light_margin, "pilot_tol": pilot_tol,
