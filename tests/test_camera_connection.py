@@ -83,3 +83,29 @@ def test_camera_light_samples_stay_off_when_asked_without_the_lens_connection_or
     gauss = wv.render(scene, filter="gaussian", **kw).rgb
     gauss_brute = wv.render(scene, filter="gaussian", light_sampling=False, **kw).rgb
     assert np.array_equal(gauss, gauss_brute)
+
+
+def _stars_behind_a_hole(metric_spec) -> dict:
+    """A star field (stars 0.002 rad in radius, a twentieth of a pixel's width) seen past a hole: the images of the
+    stars behind it crowd round its shadow or the throat's rim, the brightest of them far brighter than a pixel's
+    mean, where higher image orders pile up."""
+    return {"metric": metric_spec,
+            "camera": {"position": [0, -20, 0], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 30, "width": 24,
+                       "height": 18},
+            "textures": [], "materials": [], "shapes": [],
+            "environment": {"color": [0, 0, 0], "stars": {"density": 800.0, "brightness": 50.0, "size": 0.002,
+                                                          "seed": 3}}}  # fmt: skip
+
+
+@pytest.mark.parametrize("metric_spec", [metric("schwarzschild", 0.5), metric("ellis", 2.0)],
+                         ids=["schwarzschild", "ellis"])
+def test_camera_star_samples_are_unbiased_and_quieter(metric_spec):
+    """The stars of a star field whose images are smaller than their pixel are drawn by the camera as well: the
+    image's mean agrees with the camera rays' over seeds, and its noise is several times lower."""
+    scene = _stars_behind_a_hole(metric_spec)
+    kw = {"spp": 16, "max_depth": 1, "edge_samples": 1}
+    on = np.array([wv.render(scene, seed=s, **kw).rgb[..., 0] for s in range(8)])
+    off = np.array([wv.render(scene, seed=s, camera_light_samples=False, **kw).rgb[..., 0] for s in range(8)])
+    assert off.mean() > 0
+    assert_same_mean(on.sum(axis=(1, 2)), off.sum(axis=(1, 2)), slack=1e-3 * off.sum() / len(off))
+    assert on.std(axis=0).sum() < 0.5 * off.std(axis=0).sum()

@@ -132,12 +132,17 @@ def test_a_room_renders_the_same_image_in_closed_form(name):
 
 @pytest.mark.parametrize("name", ["fig04_einstein_ring", "fig02_accretion_disk"])
 def test_escaped_rays_see_the_same_sky_and_disks(name):
-    """The sky direction at infinity comes from the orbit's asymptote (no Born tail)."""
+    """The sky direction at infinity comes from the orbit's asymptote (no Born tail). Pixel by pixel without the
+    camera's own star samples, which see a star's images of order 2 and 3 at the shadow's rim in every sample, where
+    the integrator's error is amplified e^(2 pi) a winding (there the two methods differ in the stars' profiles
+    by far more than 1e-3); with them, the same mean."""
     scene = load_scene(f"scenes/{name}.toml")
-    a, b = render_both(scene, width=48, height=36, spp=2, edge_samples=1, threads=2)
+    a, b = render_both(scene, width=48, height=36, spp=2, edge_samples=1, threads=2, camera_light_samples=False)
     rel = np.abs(a.rgb - b.rgb).sum(-1) / (np.abs(a.rgb).sum(-1) + 1e-9)
     assert np.median(rel) < 1e-5
     assert np.mean(rel > 1e-3) < 0.02
+    assert b.rgb.mean() == pytest.approx(a.rgb.mean(), rel=2e-3)
+    a, b = render_both(scene, width=48, height=36, spp=2, edge_samples=1, threads=2)
     assert b.rgb.mean() == pytest.approx(a.rgb.mean(), rel=2e-3)
 
 

@@ -135,8 +135,8 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
     RenderOption("lens_images", "int", 2, "Image orders the lens connection samples (1: the direct image, 2: "
                  "also round the far side, ...).", lo=1, hi=4),  # fmt: skip
     RenderOption("camera_light_samples", "bool", True, "Static spherical metrics, with the lens connection: in the "
-                 "pixels where a light's lensed image is small (a far sun, a thin arc round a hole) the camera "
-                 "draws light samples of its own through the exact lens map."),  # fmt: skip
+                 "pixels where a light's or a star's lensed image is small (a far sun, a thin arc round a hole, "
+                 "stars) the camera draws light samples of its own through the exact lens map."),  # fmt: skip
     RenderOption("pixel_sampler", "choice", "sobol", "Where a camera sample falls in its pixel: 'sobol' "
                  "(stratified, Owen-scrambled Sobol) or 'independent' (uniform jitter).",
                  choices=("sobol", "independent")),  # fmt: skip

@@ -204,21 +204,27 @@ class PathTracer {
 
   // The camera's own light sample for sample s of pixel (px, py) (camera_connection.h), from random numbers of
   // its own (the path's are those of a pixel without it): a point on a light, and the ray of each of its images
-  // that lands in the pixel traced from the camera; one that first hits that point adds the light's emission
-  // weighted by the balance heuristic against the camera ray, 1 / (1 + rho). Recorded as light segments.
-  static constexpr uint64_t kCameraLightSeed = 0x5bd1e9955bd1e995ULL;
+  // that lands in the pixel traced from the camera; one that hits that light adds its emission weighted by the
+  // balance heuristic against the camera ray (CameraConnection::shot_weight). Recorded as light segments.
+  // A pixel that draws stars too (a star field's sub-pixel images) draws one of them as well, a direction in its
+  // profile, whose images are traced alike and count if they escape along it.
+  static constexpr uint64_t kCameraLightSeed = 0x5bd1e9955bd1e995ULL, kCameraStarSeed = 0x94d049bb133111ebULL;
   Task<void> camera_light(int px, int py, size_t pix, int s, PathState& ps, RenderStats& st, Scheduler* sched) const {
     Rng rng(seed_ ^ kCameraLightSeed, pix, uint64_t(s));
-    const double u0 = rng.uniform();
-    double u1, u2;  // the point on the light: stratified over the pixel's samples as the camera rays are
+    // Three numbers for a light, three for a star: the point on the light (the direction in the star's profile)
+    // stratified over the pixel's samples as the camera rays are.
+    double u[6];
+    u[0] = rng.uniform();
+    u[3] = rng.uniform();
     if (o_.pixel_sampler == kSobolPixels) {
-      pixel_sample(seed_ ^ kCameraLightSeed, pix, uint64_t(s), u1, u2);
+      pixel_sample(seed_ ^ kCameraLightSeed, pix, uint64_t(s), u[1], u[2]);
+      pixel_sample(seed_ ^ kCameraStarSeed, pix, uint64_t(s), u[4], u[5]);
     } else {
-      u1 = rng.uniform();
-      u2 = rng.uniform();
+      for (int k : {1, 2, 4, 5}) u[k] = rng.uniform();
     }
-    CameraShot shot[LensImages::kMax];
-    const int n = camera_lights_.sample(px, py, u0, u1, u2, shot);
+    CameraShot shot[2 * LensImages::kMax];
+    int n = camera_lights_.draws_lights(px, py) ? camera_lights_.sample(px, py, u[0], u[1], u[2], shot) : 0;
+    if (camera_lights_.draws_stars(px, py)) n += camera_lights_.sample_star(px, py, u[3], u[4], u[5], shot + n);
     for (int k = 0; k < n; ++k) {
       PathFrames<M> frames;
       if constexpr (!M::kFlat) {
@@ -229,7 +235,8 @@ class PathTracer {
       SegmentEnd e;
       co_await segments_.segment(sc_.camera.position, sc_.camera.sheet, shot[k].w, -1, track, st, frames, sched, e);
       ps.close(e, sc_.camera.sheet, 0, kLightSegment);
-      if (lens_.light_sample_hits(e, shot[k].prim, shot[k].target)) ps.add(emission_.emission(e) / (1.0 + shot[k].rho));
+      const double w = camera_lights_.shot_weight(px, py, shot[k], e);
+      if (w > 0.0) ps.add(emission_.emission(e) * w);
     }
   }
 
@@ -550,8 +557,10 @@ class PathTracer {
         ps.mis = ps.aimed_pb / (ps.aimed_pb + pl);
       }
       // A light seen directly in a pixel where the camera draws light samples of its own: the balance heuristic.
-      if (bounce == 0 && camera_lights && e.status == kHit && max_component(Le) > 0.0)
-        ps.mis = 1.0 / (1.0 + camera_lights_.rho(px, py, d, e.prim, e.pos));
+      if (bounce == 0 && camera_lights && max_component(Le) > 0.0) {
+        if (e.status == kHit) ps.mis = 1.0 / (1.0 + camera_lights_.rho(px, py, d, e.prim, e.pos));
+        if (e.status == kEscaped) ps.mis = 1.0 / (1.0 + camera_lights_.star_rho(px, py, d, e.sheet));
+      }
       if (!(gathered && specular && e.status == kHit && caustics_.tracer->sends_photons(e.prim)))
         ps.add_emission(Le);  // (else a caustic path: the photons')
       if (sharp) L_sharp = ps.L;

@@ -158,6 +158,18 @@ class LensMap {
     return none;
   }
 
+  // The ray that leaves A at angle psi from the outward radial direction, evaluated forward (no root): its swept
+  // azimuth Phi to B's radius and dPhi/dpsi. Not ok where it does not reach B's radius on this map's sheet (it
+  // falls in, or passes the throat where B is on A's sheet), or for B inside A's radius (the inward case).
+  LensRay at_psi(double psi) const {
+    LensRay r;
+    if (!valid_ || case_ == kInward) return r;
+    const double tau = case_ == kThroat ? M_PI - psi : psi;
+    double dphi_dtau = 0.0;
+    if (!(tau >= tau_lo_ && tau < tau_hi_) || !eval(tau, r, &dphi_dtau)) r.ok = false;
+    return r;
+  }
+
   // z of the straight line from A to B seen as if space were flat (at angle gamma = AOB, short way):
   // the order-0 image's start.
   double flat_guess(double gamma) const {

@@ -164,7 +164,9 @@ def render(
         or a throat's rim), each camera sample also draws a point on a light, maps it through the exact lens
         map into the image and, where it lands in the pixel, traces that ray; weighted against the camera
         rays by the balance heuristic (default True; unbiased either way). A sub-pixel sun's pixel is then
-        several times less noisy. Which pixels, and which lights there, follow from the scene alone.
+        several times less noisy. The bright stars of a star field whose images are smaller than their
+        pixel are drawn the same way. Which pixels, and which lights and stars there, follow from the scene
+        alone.
     pixel_sampler : {"sobol", "independent"}, optional, keyword-only
         Where a camera sample falls in its pixel. ``"sobol"`` (default): the pixel's Owen-scrambled Sobol
         sequence, stratified for every sample count, so edges inside a pixel (a lensed lamp, the shadow's
