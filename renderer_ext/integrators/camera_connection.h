@@ -12,11 +12,11 @@
 //   rho(x) = P(light) (1 / area) |dA_B / dOmega| dOmega / dx,
 //
 // the lens map's area Jacobian (lens_area_jacobian) times the pinhole's solid angle per unit of image area, and
-// both strategies then weigh what they find at x by 1 / (1 + rho(x)): a camera ray that first hits light point B
-// (weight 1 / (1 + rho), rho that of the image of B it is), and a light sample whose image lands in the pixel
-// and whose ray first hits B (L / rho times rho / (1 + rho)). Both know rho from the image point alone, so the
-// estimate stays unbiased whatever the lens map's accuracy; where the light strategy cannot reach (an image of
-// order >= lens_images, the far half of a sphere) rho is 0 and the camera ray counts alone.
+// the balance heuristic weighs a camera ray that hits a light at B by 1 / (1 + rho), rho that of the image of B it
+// is, and a light sample whose image lands in the pixel and whose ray hits that light by rho_c / (rho_s (1 +
+// rho_c)) (shot_weight): rho_s its own density, rho_c the camera ray's rho for the ray it traced, so the weights
+// add up to one for every camera direction whatever the integrator's error; where the light strategy cannot reach
+// (an image order the pixel does not solve for, the far half of a sphere) rho is 0 and the camera ray counts alone.
 //
 // The pixels it runs in, and the lights it picks there, come from the scene alone: kGrid^2 points on each light
 // (by area, as sample_light_point draws them from the camera) are mapped into the image, and a pixel where a
@@ -27,9 +27,9 @@
 // The stars of a star field (scene/environment.h) are lights at infinity of the same kind: a pixel that holds
 // an image of a star's centre smaller than the pixel also draws a star (in proportion to their light) and a
 // direction in its Gaussian profile, whose images are those of a point far out along it (kSkyRadius), with
-// dOmega_sky / dOmega = |dA_B / dOmega| / R_B^2; the sample counts if its ray escapes to that sky along that
-// direction. Its density on the sky is the mixture of the pixel's stars' profiles, which a camera ray that
-// escapes near one of them is weighed by. A pixel solves for the image orders whose images fell in it at the
+// dOmega_sky / dOmega = |dA_B / dOmega| / R_B^2; the sample counts if its ray escapes to that sky. Its density on
+// the sky is the mixture of the pixel's stars' profiles, which a camera ray that escapes there is weighed by, at
+// the sky direction the lens map gives for it (star_rho). A pixel solves for the image orders whose images fell in it at the
 // start (up to all four: a star's images of order 2 and 3 crowd at a throat's rim, sub-pixel and bright).
 #pragma once
 
