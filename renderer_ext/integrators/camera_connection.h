@@ -21,8 +21,9 @@
 // The pixels it runs in, and the lights it picks there, come from the scene alone: kGrid^2 points on each light
 // (by area, as sample_light_point draws them from the camera) are mapped into the image, and a pixel where a
 // light's points land with probability >= kMinShare per light sample gets the strategy, choosing among the lights
-// in proportion to how many of their points land in it. A lamp seen large is left to the camera rays, which see
-// its inside without noise. Every window and tile of an image agrees on it.
+// in proportion to how many of their points land in it, and drawing the point within the box of sampling numbers
+// whose grid points landed there (a grid cell wider on every side). A lamp seen large is left to the camera rays,
+// which see its inside without noise. Every window and tile of an image agrees on it.
 //
 // The stars of a star field (scene/environment.h) are lights at infinity of the same kind: a pixel that holds
 // an image of a star's centre smaller than the pixel also draws a star (in proportion to their light) and a
@@ -34,6 +35,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -189,10 +191,18 @@ class CameraConnection {
   // rho of the camera ray of pixel (px, py) along local direction d, which first hits light prim p at user-frame
   // point x (0 where the light strategy never draws it).
   double rho(int px, int py, V3 d, int p, V3 x) const {
-    const double pl = light_share(px, py, p);
+    const int s = light_slot(px, py);
+    const auto it = std::find(sc_.lights.begin(), sc_.lights.end(), p);
+    if (s < 0 || it == sc_.lights.end()) return 0.0;
+    const size_t k = size_t(s) * sc_.lights.size() + size_t(it - sc_.lights.begin());
+    const double pl = share_[k];
     if (!(pl > 0.0)) return 0.0;
     LightPoint lp;
-    if (!light_point_at(sc_, p, v_.pos, x, lp)) return 0.0;
+    double u1, u2;
+    if (!light_point_at(sc_, p, v_.pos, x, lp) || !light_point_uv(sc_, p, v_.pos, x, u1, u2)) return 0.0;
+    const UvBox& bx = box_[k];
+    if (!(u1 >= bx.lo1 && u1 <= bx.hi1 && u2 >= bx.lo2 && u2 <= bx.hi2)) return 0.0;
+    lp.area *= bx.area();  // the part of the light the pixel's samples draw from
     const LensImageRays rays = lens_image_rays(lens_.lens(), v_, lens_light(p, lp), pixel_orders(px, py));
     int best = -1;  // the image the ray is: the nearest within the match (images crowd at a hole's shadow)
     double best_cos = 1.0 - kLensMatchCos;
@@ -224,8 +234,11 @@ class CameraConnection {
     const double pl = share_[size_t(s) * nl + li];
     if (!(pl > 0.0)) return 0;
     const int p = sc_.lights[li];
+    const UvBox& bx = box_[size_t(s) * nl + li];  // drawn within the part of the light the pixel sees
     LightPoint lp;
-    if (!sample_light_point(sc_, p, v_.pos, u1, u2, lp)) return 0;
+    if (!sample_light_point(sc_, p, v_.pos, bx.lo1 + u1 * (bx.hi1 - bx.lo1), bx.lo2 + u2 * (bx.hi2 - bx.lo2), lp))
+      return 0;
+    lp.area *= bx.area();
     const LensImageRays rays = lens_image_rays(lens_.lens(), v_, lens_light(p, lp), pixel_orders(px, py));
     int n = 0;
     for (int k = 0; k < rays.n; ++k) {
@@ -305,14 +318,6 @@ class CameraConnection {
     return q;
   }
 
-  double light_share(int px, int py, int p) const {
-    const int s = light_slot(px, py);
-    if (s < 0) return 0.0;
-    const auto it = std::find(sc_.lights.begin(), sc_.lights.end(), p);
-    if (it == sc_.lights.end()) return 0.0;
-    return share_[size_t(s) * sc_.lights.size() + size_t(it - sc_.lights.begin())];
-  }
-
   LensLight lens_light(int p, const LightPoint& lp) const {
     return LensLight{lp.pos, lp.normal, lp.area, sc_.prims[p].sheet, true};
   }
@@ -357,7 +362,39 @@ class CameraConnection {
         share_.push_back(count[size_t(li)].empty() ? 0.0 : count[size_t(li)][pix] / sum);
       any = true;
     }
-    if (any) slot_ = std::move(slot);
+    if (!any) return;
+    slot_ = std::move(slot);
+    // Each slot's box of the lights' sampling numbers whose grid points landed in its pixel, a grid cell wider
+    // on every side: its samples draw there alone (a light's thin arc spread over a dozen pixels would send
+    // each pixel's samples elsewhere eleven times in twelve).
+    std::vector<std::array<int, 4>> cells(share_.size(), {kGrid, -1, kGrid, -1});
+    for (int li = 0; li < nl; ++li) {
+      if (count[size_t(li)].empty()) continue;
+      const int p = sc_.lights[li];
+      for (int i = 0; i < kGrid; ++i)
+        for (int j = 0; j < kGrid; ++j) {
+          LightPoint lp;
+          if (!sample_light_point(sc_, p, v_.pos, (i + 0.5) / kGrid, (j + 0.5) / kGrid, lp)) continue;
+          const LensImageRays rays = lens_image_rays(lens_.lens(), v_, lens_light(p, lp), kOrders);
+          for (int k = 0; k < rays.n; ++k) {
+            double x, y;
+            if (!cam_.pixel_of(rays.ray[k].w, x, y)) continue;
+            const double fx = std::floor(x), fy = std::floor(y);
+            if (!(fx >= 0 && fy >= 0 && fx < W && fy < H)) continue;
+            const int sl = slot_[size_t(fy) * W + size_t(fx)];
+            if (sl < 0) continue;
+            auto& c = cells[size_t(sl) * nl + li];
+            c = {std::min(c[0], i), std::max(c[1], i), std::min(c[2], j), std::max(c[3], j)};
+          }
+        }
+    }
+    box_.resize(cells.size());
+    for (size_t k = 0; k < cells.size(); ++k) {
+      const auto& c = cells[k];
+      if (c[1] < 0) continue;  // (no point of that light there: its share is 0)
+      box_[k] = {std::max(0, c[0] - 1) / double(kGrid), std::min(kGrid, c[1] + 2) / double(kGrid),
+                 std::max(0, c[2] - 1) / double(kGrid), std::min(kGrid, c[3] + 2) / double(kGrid)};
+    }
   }
 
   // The stars of the skies (StarField) whose images from the camera are smaller than their pixel, each pixel's
@@ -478,6 +515,11 @@ class CameraConnection {
   double pixel_solid_ = 0.0;   // the solid angle of a pixel at the image's centre
   std::vector<int> slot_;      // per image pixel: its row of share_, or -1 (empty: the strategy is off)
   std::vector<double> share_;  // per slot, each light's probability of being chosen there
+  struct UvBox {
+    double lo1 = 0.0, hi1 = 1.0, lo2 = 0.0, hi2 = 1.0;
+    double area() const { return (hi1 - lo1) * (hi2 - lo2); }
+  };
+  std::vector<UvBox> box_;     // per slot and light, the sampling numbers its light samples draw from
   std::vector<uint8_t> orders_;     // per image pixel, the image orders its samples solve for
   std::vector<SkyStar> stars_;      // the stars some pixel draws
   std::vector<size_t> star_off_;    // per image pixel, its range of star_list_ (empty: no pixel draws stars)

@@ -223,6 +223,35 @@ inline bool light_point_at(const Scene& sc, int p, V3 from, V3 x, LightPoint& lp
   return lp.area > 0.0 && std::isfinite(lp.area);
 }
 
+// The numbers (u1, u2) in [0, 1)^2 with which sample_light_point(sc, p, from, u1, u2) draws user-frame point x of
+// light prim p (sample_light_point's inverse); false where it never lands there.
+inline bool light_point_uv(const Scene& sc, int p, V3 from, V3 x, double& u1, double& u2) {
+  const Prim& pr = sc.prims[p];
+  auto wrap = [](double a) { return a - std::floor(a); };
+  if (pr.kind == PrimKind::kQuad) {
+    const Quad& q = sc.quads[pr.index];
+    u1 = dot(x - q.corner, q.du);
+    u2 = dot(x - q.corner, q.dv);
+  } else if (pr.kind == PrimKind::kDisk) {
+    const Disk& k = sc.disks[pr.index];
+    const V3 d = x - k.center;
+    const double a = dot(d, k.axis_u) / dot(k.axis_u, k.axis_u), b = dot(d, k.axis_v) / dot(k.axis_v, k.axis_v);
+    u1 = (a * a + b * b - k.r_in * k.r_in) / (k.r_out * k.r_out - k.r_in * k.r_in);
+    u2 = wrap(std::atan2(b, a) / kTwoPi);
+  } else if (pr.kind == PrimKind::kSphere) {
+    const Sphere& s = sc.spheres[pr.index];
+    const V3 axis = normalize(from - s.center), n = normalize(x - s.center);
+    if (!finite(axis) || !finite(n)) return false;
+    V3 t, b;
+    basis_around(axis, t, b);
+    u1 = dot(n, axis);
+    u2 = wrap(std::atan2(dot(n, b), dot(n, t)) / kTwoPi);
+  } else {
+    return false;
+  }
+  return u1 >= 0.0 && u1 <= 1.0 && u2 >= 0.0 && u2 <= 1.0;
+}
+
 // Solid-angle pdf with which sample_light(lq, ...) produces local direction w.
 inline double light_pdf(const LightProxy& lq, V3 w) {
   if (lq.sphere) {
