@@ -202,14 +202,10 @@ def test_a_small_ball_behind_a_hole_is_hit_whatever_its_size(segment_method):
     crossing on the curve was searched only near the chord's entry and at 32 points along the piece, so a ball
     shorter than those steps was missed: at 1024 camera rays a pixel, the ball of radius 0.1 gave no light at all in
     closed form (0.3: 8 % of it) and 77 % by the integrator. Both methods see the same image."""
+    from test_camera_connection import _lamp_behind_a_hole
+
     def seen(r):
-        scene = {"metric": {"name": "schwarzschild", "params": [0.1]},
-                 "camera": {"position": [0, -20, 0], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 30, "width": 40,
-                            "height": 30},
-                 "textures": [{"type": "constant", "color": [1, 1, 1]}],
-                 "materials": [{"type": "emissive", "texture": 0, "strength": 100.0 * (0.6 / r) ** 2}],
-                 "shapes": [{"type": "sphere", "center": [0.0, 20.0, 1.0], "radius": r, "material": 0}],
-                 "environment": {"color": [0, 0, 0]}}  # fmt: skip
+        scene = _lamp_behind_a_hole({"name": "schwarzschild", "params": [0.1]}, radius=r)
         return wv.render(scene, spp=256, max_depth=1, edge_samples=1, light_sampling=False,
                          segment_method=segment_method).rgb[..., 0].sum()  # fmt: skip
     big, mid, small = seen(0.6), seen(0.2), seen(0.1)

@@ -327,6 +327,12 @@ class CameraConnection {
   // kMinShare get a slot, holding the lights' probabilities there (in proportion to their shares).
   void build_shares() {
     const int W = sc_.camera.width, H = sc_.camera.height, nl = int(sc_.lights.size());
+    // Every grid point's images in the image, once: (light, i, j, pixel).
+    struct Landing {
+      int li, i, j;
+      size_t pix;
+    };
+    std::vector<Landing> landed;
     std::vector<std::vector<float>> count{size_t(nl)};
     for (int li = 0; li < nl; ++li) {
       const int p = sc_.lights[li];
@@ -340,9 +346,11 @@ class CameraConnection {
             if (!cam_.pixel_of(rays.ray[k].w, x, y)) continue;
             const double fx = std::floor(x), fy = std::floor(y);
             if (!(fx >= 0 && fy >= 0 && fx < W && fy < H)) continue;
+            const size_t pix = size_t(fy) * W + size_t(fx);
             if (count[size_t(li)].empty()) count[size_t(li)].assign(size_t(W) * H, 0.0f);
-            count[size_t(li)][size_t(fy) * W + size_t(fx)] += 1.0f;
-            note_order(size_t(fy) * W + size_t(fx), k);
+            count[size_t(li)][pix] += 1.0f;
+            note_order(pix, k);
+            landed.push_back({li, i, j, pix});
           }
         }
     }
@@ -368,25 +376,11 @@ class CameraConnection {
     // on every side: its samples draw there alone (a light's thin arc spread over a dozen pixels would send
     // each pixel's samples elsewhere eleven times in twelve).
     std::vector<std::array<int, 4>> cells(share_.size(), {kGrid, -1, kGrid, -1});
-    for (int li = 0; li < nl; ++li) {
-      if (count[size_t(li)].empty()) continue;
-      const int p = sc_.lights[li];
-      for (int i = 0; i < kGrid; ++i)
-        for (int j = 0; j < kGrid; ++j) {
-          LightPoint lp;
-          if (!sample_light_point(sc_, p, v_.pos, (i + 0.5) / kGrid, (j + 0.5) / kGrid, lp)) continue;
-          const LensImageRays rays = lens_image_rays(lens_.lens(), v_, lens_light(p, lp), kOrders);
-          for (int k = 0; k < rays.n; ++k) {
-            double x, y;
-            if (!cam_.pixel_of(rays.ray[k].w, x, y)) continue;
-            const double fx = std::floor(x), fy = std::floor(y);
-            if (!(fx >= 0 && fy >= 0 && fx < W && fy < H)) continue;
-            const int sl = slot_[size_t(fy) * W + size_t(fx)];
-            if (sl < 0) continue;
-            auto& c = cells[size_t(sl) * nl + li];
-            c = {std::min(c[0], i), std::max(c[1], i), std::min(c[2], j), std::max(c[3], j)};
-          }
-        }
+    for (const Landing& l : landed) {
+      const int sl = slot_[l.pix];
+      if (sl < 0) continue;
+      auto& c = cells[size_t(sl) * nl + l.li];
+      c = {std::min(c[0], l.i), std::max(c[1], l.i), std::min(c[2], l.j), std::max(c[3], l.j)};
     }
     box_.resize(cells.size());
     for (size_t k = 0; k < cells.size(); ++k) {
