@@ -52,13 +52,14 @@
 
 namespace wv {
 
-// One image of a light point that a light sample drew for a pixel: the camera ray's local direction, the light
-// prim and point it must first hit, and the strategy's density rho at its image point.
+// One image of a light point (or of a star's sky direction) that a sample drew for a pixel: the camera ray's local
+// direction, the light prim it must hit (or the sky of `sheet` it must escape to), and the strategy's density rho
+// of that direction (CameraConnection::shot_weight).
 struct CameraShot {
-  V3 w, target;  // target: a light point, or (sky) the direction on the sky
+  V3 w, target;  // target: the light point, or (sky) the direction on the sky, as drawn
   int prim = -1;
   double rho = 0.0;
-  bool sky = false;  // a star of the sky of `sheet`, reached by escaping along `target`
+  bool sky = false;  // a star's, of the sky of `sheet`
   int sheet = 1;
 };
 
@@ -66,8 +67,9 @@ template <class M>
 class CameraConnection {
  public:
   static constexpr int kGrid = 32;              // points per side on each light for the pixels' shares
-  // Image orders drawn: all the lens map's (a star's images of order 2 and 3 crowd at a throat's rim or a hole's
-  // shadow, sub-pixel and bright; in fig13 at 48 x 36 they held nearly all the variance left with orders 0, 1).
+  // Image orders drawn: all the lens map's (a light's or a star's images of order 2 and 3 crowd at a throat's rim
+  // or a hole's shadow, sub-pixel and bright; in fig13 at 48 x 36 the sun's held most of the variance left with
+  // orders 0 and 1).
   static constexpr int kOrders = LensImages::kMax;
   static constexpr double kMinShare = 1.0 / 32;  // a pixel's least share of a light sample to get the strategy
 
