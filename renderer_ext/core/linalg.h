@@ -1,10 +1,24 @@
-// Small dense linear algebra: 4x4 inverses, 3x3 symmetric inverse square root.
+// Small dense linear algebra: 4x4 inverses, a 3x3 inverse, 3x3 symmetric inverse square root.
 #pragma once
 
 #include <cmath>
 #include <utility>
 
 namespace wv {
+
+// Inverts a 3x3 matrix by cofactors. Returns false if singular (or not finite).
+inline bool invert3(const double m[3][3], double inv[3][3]) {
+  const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                     m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) return false;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {  // the cofactor of (j, i) over the determinant
+      const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
+      inv[i][j] = (m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det;
+    }
+  return true;
+}
 
 // Inverts a 4x4 matrix by Gauss-Jordan elimination with partial pivoting. Returns false if singular.
 inline bool invert4(const double a[4][4], double inv[4][4]) {

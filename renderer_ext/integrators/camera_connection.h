@@ -41,6 +41,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/linalg.h"
 #include "core/parallel.h"
 #include "core/vec3.h"
 #include "integrators/camera.h"
@@ -56,7 +57,7 @@ namespace wv {
 // direction, the light prim it must hit (or the sky of `sheet` it must escape to), and the strategy's density rho
 // of that direction (CameraConnection::shot_weight).
 struct CameraShot {
-  V3 w, target;  // target: the light point, or (sky) the direction on the sky, as drawn
+  V3 w;
   int prim = -1;
   double rho = 0.0;
   bool sky = false;  // a star's, of the sky of `sheet`
@@ -91,7 +92,7 @@ class CameraConnection {
       v_.sheet = sc.camera.sheet;
       v_.to_local = cam.to_local();
       v_.radial_local = normalize(v_.to_local(normalize(pos)));
-      if (!invert(v_.to_local, from_local_)) return;
+      if (!invert3(v_.to_local.m, from_local_.m)) return;
       const double aspect = double(sc.camera.width) / sc.camera.height;
       const double t = std::tan(0.5 * sc.camera.fov * M_PI / 180.0);
       pixel_solid_ = (2.0 * t * aspect / sc.camera.width) * (2.0 * t / sc.camera.height);
@@ -99,8 +100,6 @@ class CameraConnection {
       build_stars();
     }
   }
-
-  bool active() const { return !slot_.empty() || !star_off_.empty(); }
 
   // Whether image pixel (px, py) gets the strategy (a light's, a star's or both).
   bool applies(int px, int py) const { return light_slot(px, py) >= 0 || star_count(px, py) > 0; }
@@ -129,9 +128,7 @@ class CameraConnection {
     const double q = star_mixture(pix, sheet, xa * std::cos(r.phi) + tu * std::sin(r.phi));
     if (!(q > 0.0)) return 0.0;
     const double jac = std::fabs(std::sin(r.phi) * r.dphi_dpsi) / std::sin(psi);  // dOmega_sky / dOmega
-    const double f = dot(d, cam_.forward());
-    const double rho = q * jac * f * f * f * pixel_solid_;
-    return rho > 0.0 && std::isfinite(rho) ? rho : 0.0;
+    return per_pixel(d, q * jac);
   }
 
   // A star sample for pixel (px, py): u0 picks the star, u1, u2 a direction in its profile; the images of that
@@ -168,7 +165,6 @@ class CameraConnection {
       if (!(rho > 0.0)) continue;
       CameraShot& c = out[m++];
       c.w = rays.ray[i].w;
-      c.target = n;
       c.prim = -1;
       c.rho = rho;
       c.sky = true;
@@ -248,7 +244,7 @@ class CameraConnection {
       if (!cam_.pixel_of(rays.ray[k].w, x, y) || int(std::floor(x)) != px || int(std::floor(y)) != py) continue;
       const double rho = density(rays, rays.ray[k], lp, pl);
       if (!(rho > 0.0)) continue;
-      out[n++] = {rays.ray[k].w, lp.pos, p, rho};
+      out[n++] = {rays.ray[k].w, p, rho};
     }
     return n;
   }
@@ -260,10 +256,7 @@ class CameraConnection {
     if (!std::isfinite(ir.r.dphi_dpsi)) return 0.0;
     const double cos_n = std::fabs(dot(ir.t_arr, lp.normal));
     if (!(cos_n > 0.0)) return 0.0;
-    const double jac = lens_area_jacobian(rays, ir, cos_n);  // |dA_B / dOmega|
-    const double f = dot(ir.w, cam_.forward());               // the pinhole's dOmega / dx = f^3 pixel_solid_
-    const double rho = pl / lp.area * jac * f * f * f * pixel_solid_;
-    return rho > 0.0 && std::isfinite(rho) ? rho : 0.0;
+    return per_pixel(ir.w, pl / lp.area * lens_area_jacobian(rays, ir, cos_n));  // |dA_B / dOmega|
   }
 
   // The image orders a pixel's samples solve for: up to the highest whose image of a light's grid point or of a
@@ -296,8 +289,14 @@ class CameraConnection {
     const double cos_r = std::fabs(dot(ir.t_arr, rays.xb));
     if (!(cos_r > 0.0)) return 0.0;
     const double jac = lens_area_jacobian(rays, ir, cos_r) / (rays.RB * rays.RB);  // dOmega_sky / dOmega
-    const double f = dot(ir.w, cam_.forward());
-    const double rho = q * jac * f * f * f * pixel_solid_;
+    return per_pixel(ir.w, q * jac);
+  }
+
+  // rho from a density per steradian at the camera along local direction w: times the pinhole's solid angle per
+  // unit of image (dOmega / dx = f^3 pixel_solid_, f the cosine from the forward axis); 0 unless finite and > 0.
+  double per_pixel(V3 w, double per_sr) const {
+    const double f = dot(w, cam_.forward());
+    const double rho = per_sr * f * f * f * pixel_solid_;
     return rho > 0.0 && std::isfinite(rho) ? rho : 0.0;
   }
 
@@ -474,20 +473,6 @@ class CameraConnection {
       k = e;
     }
     for (size_t p = 1; p < star_off_.size(); ++p) star_off_[p] = std::max(star_off_[p], star_off_[p - 1]);
-  }
-
-  static bool invert(const LinearMap& a, LinearMap& inv) {
-    const auto& m = a.m;
-    const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-                       m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) return false;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {  // the cofactor of (j, i) over the determinant
-        const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
-        inv.m[i][j] = (m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det;
-      }
-    return true;
   }
 
   static constexpr double kSkyRadius = 1e8;  // where a sky direction is put for the lens map
