@@ -47,6 +47,38 @@ def test_edge_pixels_are_the_longer_render_and_the_rest_the_plain_one_bit_for_bi
     assert plain.stats["edge_pixels"] == 0
 
 
+def _with_a_sun(scene, strength):
+    """The scene with a small emitting ball in view besides its ceiling lamp (strength 12)."""
+    scene = {**scene, "materials": scene["materials"] + [{"type": "emissive", "texture": 3, "strength": strength}],
+             "shapes": scene["shapes"] + [{"type": "sphere", "center": [-3.0, 0.0, 5.0], "radius": 0.8,
+                                           "material": len(scene["materials"])}]}  # fmt: skip
+    return scene
+
+
+def test_the_edges_of_an_emitter_far_brighter_than_the_faintest_get_eight_times_the_edge_samples():
+    """A ball at 100x the lamp's radiance: its edge pixels (render_types.h, kBrightEdgePixel) get 8 x edge_samples
+    x spp samples, bit for bit those of a render at that many samples; the lamp's edges keep edge_samples x spp,
+    the rest spp; and every window and thread count agrees on which pixels they are. At 10x the lamp's radiance
+    the ball's edges are ordinary ones."""
+    spp, times = 2, 2
+    scene = _with_a_sun(CURVED, 1200.0)
+    more = wv.render(scene, spp=spp, seed=5, edge_samples=times, threads=1)
+    counts = more.aovs["samples"]
+    bright, edge = counts == spp * times * 8, counts == spp * times
+    assert 0 < bright.sum() == more.stats["bright_edge_pixels"] < more.stats["edge_pixels"]
+    assert more.stats["edge_pixels"] == bright.sum() + edge.sum() and np.all(counts[~bright & ~edge] == spp)
+    for mask, n in ((bright, spp * times * 8), (edge, spp * times), (~bright & ~edge, spp)):
+        np.testing.assert_array_equal(more.rgb[mask], wv.render(scene, spp=n, seed=5, edge_samples=1).rgb[mask])
+    tiles = np.zeros_like(more.rgb)
+    for x0, y0, w, h in [(0, 0, 7, 15), (7, 0, 13, 8), (7, 8, 13, 7)]:
+        tile = wv.render(scene, spp=spp, seed=5, edge_samples=times, threads=2, crop=(x0, y0, w, h))
+        tiles[y0:y0 + h, x0:x0 + w] = tile.rgb
+        np.testing.assert_array_equal(tile.aovs["samples"], counts[y0:y0 + h, x0:x0 + w])
+    np.testing.assert_array_equal(tiles, more.rgb)
+    dim = wv.render(_with_a_sun(CURVED, 120.0), spp=spp, seed=5, edge_samples=times)
+    assert dim.stats["bright_edge_pixels"] == 0 < dim.stats["edge_pixels"]
+
+
 def test_edge_pixels_do_not_depend_on_the_window_or_the_threads():
     whole = wv.render(CURVED, spp=2, seed=1, threads=1)
     tiles = np.zeros_like(whole.rgb)

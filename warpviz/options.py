@@ -143,7 +143,8 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
     RenderOption("edge_samples", "int", None, "Samples per pixel, as a multiple of spp, in the pixels a light's "
                  "edge crosses, seen directly or in mirrors and glass, and those that see a light in glass by "
                  "some samples' Fresnel choice only (found by probe rays before rendering, so the image stays "
-                 "unbiased); 1 turns it off.", lo=1, hi=MAX_EDGE_SAMPLES, flag="--edge-samples",
+                 "unbiased); the edge of an emitter 64 or more times as bright as the scene's faintest gets 8 "
+                 "times this; 1 turns it off.", lo=1, hi=MAX_EDGE_SAMPLES, flag="--edge-samples",
                  derived="8, or 32 in a denoised render (a resumed render: its image's)"),  # fmt: skip
     RenderOption("detail_samples", "int", None, "Samples per pixel, as a multiple of spp, in the pixels that "
                  "hold more than one surface, seen directly or in mirrors and glass (an outline, the squeezed "

@@ -438,6 +438,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   stats["segments_by_status"] = counts;
   stats["segments"] = r.segments;
   stats["edge_pixels"] = r.edge_pixels;
+  stats["bright_edge_pixels"] = r.bright_edge_pixels;
   stats["detail_pixels"] = r.detail_pixels;
   stats["guide_segments"] = r.guide_segments;
   stats["photon_segments"] = r.photon_segments;
@@ -547,6 +548,8 @@ nb::object spherical_lens(const std::string& metric, const std::vector<double>& 
 
 NB_MODULE(_core, m) {
   m.doc() = "warpviz native core: null geodesics of the spacetimes registered in renderer_ext/metrics/";
+  // A bright edge pixel's multiple of edge_samples (integrators/render_types.h), for the sample index's bound.
+  m.attr("BRIGHT_EDGE_FACTOR") = wv::kBrightEdgeFactor;
   m.def("metrics", &metrics, "Registered metrics and their facts (engine/registry.h).");
   m.def("load_metric_plugin", &wv::load_metric_plugin, "path"_a,
         "Loads a metric plugin once and enters its metrics and steppers into the registry (engine/plugin.h); "

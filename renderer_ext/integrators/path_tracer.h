@@ -750,6 +750,7 @@ class PathTracer {
     double energy0;
     todo[n_todo++] = {sc_.camera.position, camera_.start_direction(camera_.direction_at(x, y), energy0),
                       sc_.camera.sheet, -1, 0, 1u, 1.0};
+    double radiance = 0.0;
     auto leaf = [&](bool emits, uint32_t code, uint32_t end) {
       ++leaves;
       any |= emits;
@@ -775,6 +776,7 @@ class PathTracer {
       const Material* mat = e.status == kHit ? &sc_.materials[sc_.prims[e.prim].material] : nullptr;
       if (!(mat && !mat->emits() && mat->is_delta() && b.depth < kProbeSpecular &&
             leaves + n_todo + 2 <= kProbeLeaves)) {  // an emitter, a non-specular surface, the sky, or the end
+        if (mat && mat->emits()) radiance = std::max(radiance, b.share * max_component(emission_.emission(e)));
         leaf(mat && mat->emits(), b.code, end_of(e));
         continue;
       }
@@ -802,6 +804,7 @@ class PathTracer {
     }
     hit.light = any && !all ? kProbeMixed : int32_t(signature);
     hit.shape = shape;
+    hit.radiance = float(radiance);
   }
 
  private:
@@ -899,7 +902,17 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
     return pt.probe(x, y, st, sched, hit);
   };
   auto images = [&pt](int X0, int Y0, int W, int H) { return pt.light_image_points(X0, Y0, W, H); };
-  RenderResult r = render_passes<M, S>(m, sc.camera, o, sample, probe, emitters, photon_pass, images);
+  // The radiance from which a light's edge is a bright one (render_types.h: kBrightEdgePixel): kBrightEdgeRatio
+  // times the faintest emitter's (a material's emission scale, as its light's power counts it).
+  double faintest = INFINITY;
+  for (const Prim& p : sc.prims) {
+    const Material& mat = sc.materials[p.material];
+    if (!mat.emits()) continue;
+    const double scale = mat.kind == MaterialKind::kEmissive ? mat.strength : max_component(mat.emission);
+    if (scale > 0.0) faintest = std::min(faintest, scale);
+  }
+  const double bright = std::isfinite(faintest) ? kBrightEdgeRatio * faintest : INFINITY;
+  RenderResult r = render_passes<M, S>(m, sc.camera, o, sample, probe, emitters, photon_pass, images, bright);
   r.guide = guide;
   r.guide_segments = training.segments;
   r.segments += training.segments + photon_stats.segments;

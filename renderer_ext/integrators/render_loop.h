@@ -72,13 +72,15 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
 // (x, y) (pixel units) sees (ProbeHit: path_tracer.h); the probes lie on the lattice of half-pixel spacing
 // (corners, edge midpoints and centres, shared by neighbours). With `edges`, a pixel whose nine lattice points
 // disagree on the emitters their branches end on, or one of which sees some (kProbeMixed), is an edge pixel
-// (straddling the edge of a light seen directly or in mirrors and glass); with `details`, one of the others
+// (straddling the edge of a light seen directly or in mirrors and glass), a bright edge pixel where one of those
+// points sees an emitter at radiance `bright` or more; with `details`, one of the others
 // whose lattice points disagree on where their branches end (two shapes, a shape and the sky or the hole) is
 // a detail pixel. Depends only on the scene and the pixel, so every window agrees on it.
 template <class M, class S, class Probe>
 std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, int Y0, int W, int H,
                                    const Probe& probe, bool edges, bool details, const std::function<bool()>& poll,
-                                   bool& cancelled, RenderStats& stats, const std::vector<double>& images = {}) {
+                                   bool& cancelled, RenderStats& stats, const std::vector<double>& images = {},
+                                   double bright = INFINITY) {
   const size_t LW = size_t(2 * W + 1), LH = size_t(2 * H + 1), n = LW * LH;
   std::vector<ProbeHit> hit(n);
   constexpr size_t kChunk = 256;  // lattice points per parallel task
@@ -125,16 +127,22 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
     for (int x = 0; x < W; ++x) {
       const ProbeHit& h0 = hit[size_t(2 * y) * LW + size_t(2 * x)];
       bool edge = edges && h0.light == kProbeMixed, detail = false;
+      double seen = 0.0;  // the brightest emitter its points see
       for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
           const ProbeHit& h = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
           edge = edge || (edges && h.light != h0.light);  // (h0 is not mixed here, so a mixed point differs)
           detail = detail || (details && h.shape != h0.shape);
+          seen = std::max(seen, double(h.radiance));
         }
       const size_t c = size_t(y) * W + size_t(x);
-      if (next_arc < arc_pixels.size() && arc_pixels[next_arc] == c) edge = edge || arc_hit[next_arc++].light != 0;
+      if (next_arc < arc_pixels.size() && arc_pixels[next_arc] == c) {
+        seen = std::max(seen, double(arc_hit[next_arc].radiance));
+        edge = edge || arc_hit[next_arc++].light != 0;
+      }
       if (edge || detail)
-        classes.push_back(kPixelClasses * (int64_t(y) * W + x) + (edge ? kEdgePixel : kDetailPixel));
+        classes.push_back(kPixelClasses * (int64_t(y) * W + x) +
+                          (edge ? (seen >= bright ? kBrightEdgePixel : kEdgePixel) : kDetailPixel));
     }
   return classes;
 }
@@ -158,7 +166,8 @@ template <class M, class S, class Sample, class Probe>
 RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o, const Sample& sample,
                            const Probe& probe, bool probe_lights,
                            const std::function<bool(int64_t)>& photon_pass = {},
-                           const std::function<std::vector<double>(int, int, int, int)>& light_images = {}) {
+                           const std::function<std::vector<double>(int, int, int, int)>& light_images = {},
+                           double bright_edge = INFINITY) {
   RenderResult out;
   const bool whole = o.crop[2] <= 0 || o.crop[3] <= 0;
   const int X0 = whole ? 0 : o.crop[0], Y0 = whole ? 0 : o.crop[1];
@@ -204,31 +213,35 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
     int64_t last = -1;
     for (const int64_t c : o.classes) {
       const int64_t p = c / kPixelClasses, k = c % kPixelClasses;
-      if (c < 0 || size_t(p) >= npix || p <= last || (k != kEdgePixel && k != kDetailPixel))
+      if (c < 0 || size_t(p) >= npix || p <= last || (k != kEdgePixel && k != kDetailPixel && k != kBrightEdgePixel))
         throw std::invalid_argument("render option 'pixel_classes' must hold ascending pixels of the window, "
-                                    "4 x index + 1 (detail) or 2 (edge)");
+                                    "4 x index + 1 (detail), 2 (edge) or 3 (bright edge)");
       last = p;
       classes.push_back(c);
     }
   } else if (find_edges || find_details) {
     bool cancelled = false;
     const std::vector<double> images = find_edges && light_images ? light_images(X0, Y0, W, H) : std::vector<double>();
-    classes = pixel_classes<M, S>(m, o, X0, Y0, W, H, probe, find_edges, find_details, poll, cancelled, probes, images);
+    classes = pixel_classes<M, S>(m, o, X0, Y0, W, H, probe, find_edges, find_details, poll, cancelled, probes, images,
+                                  bright_edge);
     if (cancelled || stopped) {
       out.completed = false;
       return out;
     }
   }
-  // The pixels given k x o.spp samples, by k (the edge pixels, then the detail pixels).
+  // The pixels given k x o.spp samples, by k (the bright edge pixels, the edge pixels, then the detail pixels).
   struct Group {
     int64_t k;
     std::vector<size_t> pixels;
   };
-  Group groups[2] = {{E, {}}, {D, {}}};
-  for (const int64_t c : classes)
-    groups[c % kPixelClasses == kEdgePixel ? 0 : 1].pixels.push_back(size_t(c / kPixelClasses));
-  out.edge_pixels = int64_t(groups[0].pixels.size());
-  out.detail_pixels = int64_t(groups[1].pixels.size());
+  Group groups[3] = {{o.edge_samples > 1 ? E * kBrightEdgeFactor : E, {}}, {E, {}}, {D, {}}};
+  for (const int64_t c : classes) {
+    const int64_t k = c % kPixelClasses;
+    groups[k == kBrightEdgePixel ? 0 : k == kEdgePixel ? 1 : 2].pixels.push_back(size_t(c / kPixelClasses));
+  }
+  out.edge_pixels = int64_t(groups[0].pixels.size() + groups[1].pixels.size());
+  out.bright_edge_pixels = int64_t(groups[0].pixels.size());
+  out.detail_pixels = int64_t(groups[2].pixels.size());
   out.pixel_classes = classes;
 
   // The pixels of the main passes: all of them in the first range (a pixel's first samples [0, B1) come with

@@ -93,8 +93,13 @@ struct RenderOptions {
 };
 
 // What a pixel's probes found (render_loop.h: pixel_classes): its samples are a multiple of spp by its class.
-enum PixelClass : int { kPlainPixel = 0, kDetailPixel = 1, kEdgePixel = 2 };
+// A bright edge pixel holds the edge of an emitter seen at kBrightEdgeRatio or more times the radiance of the
+// scene's faintest emitter (a sun seen past a hole or through a throat from a room its lamp lights): its noise
+// per sample grows with that radiance, and it gets kBrightEdgeFactor x edge_samples x spp samples.
+enum PixelClass : int { kPlainPixel = 0, kDetailPixel = 1, kEdgePixel = 2, kBrightEdgePixel = 3 };
 constexpr int64_t kPixelClasses = 4;  // pixel_classes entries: kPixelClasses * index + class
+constexpr double kBrightEdgeRatio = 64.0;
+constexpr int64_t kBrightEdgeFactor = 8;
 
 // What the camera ray through one point of the probe lattice sees (PathTracer::probe): `light`, a signature of
 // its specular branches that end on an emitter (0: none; kProbeMixed where some do and some do not); `shape`,
@@ -103,6 +108,7 @@ constexpr int32_t kProbeMixed = -1;
 struct ProbeHit {
   int32_t light = 0;
   uint32_t shape = 0;
+  float radiance = 0.0f;  // the brightest emitter its branches end on (the largest channel, times the branch's share)
 };
 
 enum SegmentKind : int8_t { kCameraSegment = 0, kBounceSegment = 1, kLightSegment = 2 };
@@ -133,7 +139,8 @@ struct RenderResult {
   int64_t status_counts[6] = {0, 0, 0, 0, 0, 0};  // geodesic segments by RayStatus
   int64_t total_steps = 0;
   int64_t segments = 0;
-  int64_t edge_pixels = 0;    // pixels given max(edge_samples, detail_samples) x spp samples
+  int64_t edge_pixels = 0;         // pixels given max(edge_samples, detail_samples) x spp samples (or more:)
+  int64_t bright_edge_pixels = 0;  // ... those of them given kBrightEdgeFactor x that
   int64_t detail_pixels = 0;  // (other) pixels given detail_samples x spp samples
   // Those pixels, ascending: kPixelClasses * (index into the window) + their PixelClass.
   std::vector<int64_t> pixel_classes;

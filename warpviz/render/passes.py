@@ -172,8 +172,9 @@ class PassesDone:
     passes : int
         Passes in it.
     classes : numpy.ndarray or None
-        (K,) int64: the window's pixels that get more samples (an edge or detail pixel), ``4 x index + class``
-        (``renderer_ext``: ``render_loop.h``, ``pixel_classes``), once a pass has found them.
+        (K,) int64: the window's pixels that get more samples (a detail, edge or bright edge pixel),
+        ``4 x index + class`` (1, 2, 3; ``renderer_ext``: ``render_loop.h``, ``pixel_classes``), once a pass has
+        found them.
     stats : dict
         Segment counts, steps and seconds summed over this call's passes.
     rays : list of dict
@@ -202,7 +203,7 @@ def add_stats(total: dict, add: dict, *, summed: tuple[str, ...] = ("seconds", "
         elif key in summed:
             out[key] = total.get(key, 0) + value
         else:
-            out[key] = value  # threads, edge_pixels, detail_pixels: the same each pass
+            out[key] = value  # threads, (bright_)edge_pixels, detail_pixels: the same each pass
     return out
 
 

@@ -187,8 +187,10 @@ def render(
         not (a lamp reflected in a glass ball, seen by the samples that the Fresnel choice reflects; fig07
         at 640x480: half the denoised MSE), so a pixel's sample count does not depend on what its samples
         find and every pixel's mean stays unbiased. ``aovs["samples"]`` says how many each pixel got and ``stats["edge_pixels"]`` how
-        many pixels got more. Emitters narrower than half a pixel can slip between the probes; they are
-        then sampled like any pixel.
+        many pixels got more. The edge of an emitter 64 or more times as bright as the scene's faintest one
+        (a sun seen from a room its lamp lights) gets 8 times that (``stats["bright_edge_pixels"]``): its noise
+        per sample grows with its radiance. Emitters narrower than half a pixel can slip between the probes;
+        they are then sampled like any pixel.
     detail_samples : int, optional, keyword-only
         Pixels that hold more than one surface, seen directly or in mirrors and glass, get
         ``detail_samples`` x ``spp`` samples (default 1, and 8 with ``denoise=True``; resuming an image: its
@@ -391,10 +393,14 @@ def render(
             raise ValueError(f"client must be a dask.distributed.Client, got {type(client).__name__}")
     # The samples per pixel to reach: spp, or with a time budget or noise target and no spp, as many as
     # fit in the film's 32-bit counts.
-    most = max(options["edge_samples"], options["detail_samples"])  # the largest multiple of spp a pixel gets
+    # The largest multiple of spp a pixel gets: the larger of edge_samples and detail_samples, and on a bright
+    # light's edge BRIGHT_EDGE_FACTOR x that (where edge_samples is on).
+    bright = core.BRIGHT_EDGE_FACTOR if options["edge_samples"] > 1 else 1
+    most = max(options["edge_samples"], options["detail_samples"]) * bright
     target = options["spp"] if spp is not None or not limited else MAX_SPP // most
     if target * most > MAX_SPP:
         which = "edge_samples" if options["edge_samples"] >= options["detail_samples"] else "detail_samples"
+        which += f" x {bright} (a bright light's edge)" if bright > 1 else ""
         raise ValueError(f"spp x {which} must be at most {MAX_SPP} (2**31 - 1), got "
                          f"{target} x {most}; lower one of them")
     w, h = native["camera"]["width"], native["camera"]["height"]
@@ -471,8 +477,8 @@ def render(
     if completed and progress is not None:
         total = int(resolved["samples_total"]) - (int(start.film["samples"].sum()) if start.film else 0)
         progress(total, total)
-    stats = {"segments_by_status": {}, "segments": 0, "steps": 0, "seconds": 0.0, "edge_pixels": 0, "detail_pixels": 0,
-             "threads": 0, **_plain(done.stats)}  # fmt: skip
+    stats = {"segments_by_status": {}, "segments": 0, "steps": 0, "seconds": 0.0, "edge_pixels": 0,
+             "bright_edge_pixels": 0, "detail_pixels": 0, "threads": 0, **_plain(done.stats)}  # fmt: skip
     stats["guide_segments"] = guide_segments  # (path guiding's training, counted in "segments" too)
     stats["segments"] += guide_segments
     stats["samples"] = int(resolved["samples_total"])
