@@ -55,11 +55,11 @@ def _with_a_sun(scene, strength):
     return scene
 
 
-def test_the_edges_of_an_emitter_far_brighter_than_the_faintest_get_eight_times_the_edge_samples():
+def test_the_edges_of_an_emitter_far_brighter_than_the_faintest_get_eight_times_the_edge_samples(tmp_path):
     """A ball at 100x the lamp's radiance: its edge pixels (render_types.h, kBrightEdgePixel) get 8 x edge_samples
     x spp samples, bit for bit those of a render at that many samples; the lamp's edges keep edge_samples x spp,
-    the rest spp; and every window and thread count agrees on which pixels they are. At 10x the lamp's radiance
-    the ball's edges are ordinary ones."""
+    the rest spp; every window and thread count agrees on which pixels they are, and a render resumed from its
+    file is the render of the total. At 10x the lamp's radiance the ball's edges are ordinary ones."""
     spp, times = 2, 2
     scene = _with_a_sun(CURVED, 1200.0)
     more = wv.render(scene, spp=spp, seed=5, edge_samples=times, threads=1)
@@ -75,6 +75,11 @@ def test_the_edges_of_an_emitter_far_brighter_than_the_faintest_get_eight_times_
         tiles[y0:y0 + h, x0:x0 + w] = tile.rgb
         np.testing.assert_array_equal(tile.aovs["samples"], counts[y0:y0 + h, x0:x0 + w])
     np.testing.assert_array_equal(tiles, more.rgb)
+    # resumed from its file: the same as one render of the total
+    part = wv.render(scene, spp=1, seed=5, edge_samples=times, progress=None).save(tmp_path / "part.exr")
+    resumed = wv.render(scene, spp=spp, seed=5, edge_samples=times, resume=part, progress=None)
+    np.testing.assert_array_equal(resumed.aovs["samples"], counts)
+    np.testing.assert_allclose(resumed.rgb, more.rgb, rtol=1e-6, atol=1e-7)
     dim = wv.render(_with_a_sun(CURVED, 120.0), spp=spp, seed=5, edge_samples=times)
     assert dim.stats["bright_edge_pixels"] == 0 < dim.stats["edge_pixels"]
 

@@ -1,7 +1,8 @@
 """Rendering in passes: a sample budget, a time budget and a noise target, each checked between passes.
 
 A pass renders samples ``[N, N + n)`` of every pixel (``[k N, k (N + n))`` of a pixel on a directly seen
-light's edge, ``k = edge_samples``, or holding detail, ``k = detail_samples``) into the film of the passes
+light's edge, ``k = edge_samples`` (8 times that on the edge of a light far brighter than the faintest), or
+holding detail, ``k = detail_samples``) into the film of the passes
 before it (``renderer_ext``: ``render_loop.h``), whose sums the core continues in sample order. Any
 split of ``[0, N)`` into passes therefore gives the image of one render of ``N`` samples per pixel, bit
 for bit; a render can stop after any pass (time budget, noise target, Ctrl-C) and be resumed later from
@@ -140,7 +141,8 @@ class PassReport:
     Attributes
     ----------
     spp : int
-        Samples per pixel reached (edge and detail pixels: ``edge_samples`` or ``detail_samples`` times as many).
+        Samples per pixel reached (edge and detail pixels: ``edge_samples`` or ``detail_samples`` times as many,
+        a bright light's edge pixels 8 x ``edge_samples`` times).
     passes : int
         Passes done (with those of a resumed image).
     seconds : float

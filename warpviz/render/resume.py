@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from warpviz._native import core
 from warpviz.render.image import read_exr  # here too: resuming starts from one
 
 __all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "saved_resume",
@@ -147,7 +148,9 @@ def resume_problem(img, *, settings: dict, sha256: str, aovs: list[str] | None, 
     spp = meta.get("spp")
     counts = np.asarray(img.aovs["samples"])
     edge, detail = int(old.get("edge_samples", 1)), int(old.get("detail_samples", 1))
-    if not isinstance(spp, int) or spp < 1 or not np.isin(counts, (spp, spp * max(edge, detail), spp * detail)).all():
+    bright = max(edge, detail) * (core.BRIGHT_EDGE_FACTOR if edge > 1 else 1)  # a bright light's edge pixels
+    multiples = (1, max(edge, detail), detail, bright)
+    if not isinstance(spp, int) or spp < 1 or not np.isin(counts, [spp * k for k in multiples]).all():
         return f"{name}'s samples per pixel do not match its header's spp = {spp!r}: it was not written whole"
     return None
 
