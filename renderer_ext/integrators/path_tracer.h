@@ -903,13 +903,12 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
   };
   auto images = [&pt](int X0, int Y0, int W, int H) { return pt.light_image_points(X0, Y0, W, H); };
   // The radiance from which a light's edge is a bright one (render_types.h: kBrightEdgePixel): kBrightEdgeRatio
-  // times the faintest emitter's (a material's emission scale, as its light's power counts it).
+  // times the faintest emitter's (Material::emission_scale, as its light's power counts it).
   double faintest = INFINITY;
   for (const Prim& p : sc.prims) {
     const Material& mat = sc.materials[p.material];
     if (!mat.emits()) continue;
-    const double scale = mat.kind == MaterialKind::kEmissive ? mat.strength : max_component(mat.emission);
-    if (scale > 0.0) faintest = std::min(faintest, scale);
+    if (mat.emission_scale() > 0.0) faintest = std::min(faintest, mat.emission_scale());
   }
   const double bright = std::isfinite(faintest) ? kBrightEdgeRatio * faintest : INFINITY;
   RenderResult r = render_passes<M, S>(m, sc.camera, o, sample, probe, emitters, photon_pass, images, bright);

@@ -130,7 +130,7 @@ class PhotonTracer {
       if (!sample_light_point(sc_, p, {0, 0, 0}, 0.5, 0.5, lp)) return 0.0;
       area = lp.area;
     }
-    const double scale = mat.kind == MaterialKind::kEmissive ? mat.strength : max_component(mat.emission);
+    const double scale = mat.emission_scale();
     const double sides = mat.kind == MaterialKind::kEmissive && mat.two_sided ? 2.0 : 1.0;
     const double w = area * scale * sides;
     return std::isfinite(w) && w > 0.0 ? w : 0.0;

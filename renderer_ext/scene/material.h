@@ -30,6 +30,8 @@ struct Material {
   V3 emission{0, 0, 0};  // diffuse, mirror, glass: radiance emitted too (one-sided, along the normal)
   // Emits light: emissive, or a reflecting material with emission (a light that also reflects like its BSDF).
   bool emits() const { return kind == MaterialKind::kEmissive || max_component(emission) > 0.0; }
+  // How bright it emits, up to its texture: the strength of an emissive one, else emission's largest channel.
+  double emission_scale() const { return kind == MaterialKind::kEmissive ? strength : max_component(emission); }
   bool is_delta() const { return kind == MaterialKind::kMirror || kind == MaterialKind::kGlass; }
 };
 

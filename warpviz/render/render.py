@@ -41,7 +41,7 @@ from warpviz.render.image import Image
 from warpviz.render.memory import check_render_memory
 from warpviz.render.passes import PASS_SAMPLES, PassesDone, PassReport, concat_rays, pass_plan, run_passes
 from warpviz.render.resume import (IMPLIED_SETTINGS, film_from_image, read_exr, resume_problem, resume_settings,
-                                   saved_resume, scene_sha256)
+                                   sample_multiples, saved_resume, scene_sha256)
 from warpviz.scene.native import native_scene, scene_emits
 from warpviz.spacetime import metric_from_params
 from warpviz.tracing import RayBundle, default_max_drift, recorded_point_data
@@ -393,10 +393,9 @@ def render(
             raise ValueError(f"client must be a dask.distributed.Client, got {type(client).__name__}")
     # The samples per pixel to reach: spp, or with a time budget or noise target and no spp, as many as
     # fit in the film's 32-bit counts.
-    # The largest multiple of spp a pixel gets: the larger of edge_samples and detail_samples, and on a bright
-    # light's edge BRIGHT_EDGE_FACTOR x that (where edge_samples is on).
-    bright = core.BRIGHT_EDGE_FACTOR if options["edge_samples"] > 1 else 1
-    most = max(options["edge_samples"], options["detail_samples"]) * bright
+    # The largest multiple of spp a pixel gets: a bright light's edge pixel's.
+    _, edge, _, most = sample_multiples(options["edge_samples"], options["detail_samples"])
+    bright = most // edge
     target = options["spp"] if spp is not None or not limited else MAX_SPP // most
     if target * most > MAX_SPP:
         which = "edge_samples" if options["edge_samples"] >= options["detail_samples"] else "detail_samples"

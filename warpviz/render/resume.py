@@ -31,7 +31,7 @@ from warpviz._native import core
 from warpviz.render.image import read_exr  # here too: resuming starts from one
 
 __all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "saved_resume",
-           "resume_problem", "film_from_image"]
+           "resume_problem", "film_from_image", "sample_multiples"]
 
 #: The render options that decide what each sample adds (so a resumed image must have been rendered with
 #: the same); spp, threads, batch (bit-identical either way), progress and the limits do not.
@@ -147,12 +147,18 @@ def resume_problem(img, *, settings: dict, sha256: str, aovs: list[str] | None, 
                     "render keeps the image's)")  # fmt: skip
     spp = meta.get("spp")
     counts = np.asarray(img.aovs["samples"])
-    edge, detail = int(old.get("edge_samples", 1)), int(old.get("detail_samples", 1))
-    bright = max(edge, detail) * (core.BRIGHT_EDGE_FACTOR if edge > 1 else 1)  # a bright light's edge pixels
-    multiples = (1, max(edge, detail), detail, bright)
+    multiples = sample_multiples(int(old.get("edge_samples", 1)), int(old.get("detail_samples", 1)))
     if not isinstance(spp, int) or spp < 1 or not np.isin(counts, [spp * k for k in multiples]).all():
         return f"{name}'s samples per pixel do not match its header's spp = {spp!r}: it was not written whole"
     return None
+
+
+def sample_multiples(edge_samples: int, detail_samples: int) -> tuple[int, int, int, int]:
+    """The multiples of spp that a render's pixels get (``renderer_ext``: ``render_loop.h``): a plain pixel,
+    an edge pixel (the larger of the two options), a detail pixel, and a bright light's edge pixel
+    (``core.BRIGHT_EDGE_FACTOR`` x an edge pixel's, where ``edge_samples`` is on); the last is the largest."""
+    edge = max(edge_samples, detail_samples)
+    return 1, edge, detail_samples, edge * (core.BRIGHT_EDGE_FACTOR if edge_samples > 1 else 1)
 
 
 def _show(value) -> str:
