@@ -18,6 +18,8 @@ line_element_kerr_newman (Kerr-Newman from its line element), each rendered with
                     (``photons_per_pixel=0``; the scenes ask for 0.3 per pixel),
 * ``lens, no camera lights`` (the static spherical rooms) the same without the camera's own light samples
                     in the pixels where a light's image is small (``camera_light_samples=False``),
+* ``lens, no roulette`` the same with every light sample traced (``light_roulette=0``; the default plays
+                    Russian roulette with the light samples of a path's dim vertices),
 * ``lens, no edge`` the same with ``edge_samples=1`` (every pixel gets spp samples),
 * ``lens, jitter``  the same with uniform jitter in the pixel (``pixel_sampler="independent"``),
 * ``aimed, jitter`` the renderer before this work: flat-space proxies aimed by pilot geodesics, jitter,
@@ -74,6 +76,7 @@ ESTIMATORS = {
                       "guide_training": 0, "photons_per_pixel": 0.0},
     "lens, no photons": {"photons_per_pixel": 0.0},  # the rooms' caustics by photons (0.3 per pixel) off
     "lens, no camera lights": {"camera_light_samples": False},  # the camera's own light samples off
+    "lens, no roulette": {"light_roulette": 0.0},  # every light sample traced
     "brute": {"light_sampling": False, "guide_training": 0, "photons_per_pixel": 0.0},
     "brute, jitter": {"light_sampling": False, "pixel_sampler": "independent", "guide_training": 0,
                       "photons_per_pixel": 0.0},

@@ -246,6 +246,25 @@ def test_kerr_lens_proposal_at_zero_spin_is_the_exact_connection():
     assert 0.8 < ratio < 1.25, ratio
 
 
+@pytest.mark.parametrize("m", [metric("schwarzschild", 1.0), metric("kerr", 1.0, 0.9)], ids=["schwarzschild", "kerr"])
+def test_light_roulette_keeps_the_mean_and_traces_fewer_light_rays(m):
+    """Russian roulette on the lens light samples (path_tracer.h, light_roulette): a sample below
+    light_roulette x the largest estimate on its path is traced with probability estimate / threshold and
+    weighted by the inverse. The default (1) and a harsh one (50: nearly every sample after a path's first
+    is a gamble) keep the mean of every sample traced (0), and trace fewer geodesic segments."""
+    sc = room(m, size=(12, 9), light=3.0, spheres=False)
+    kw = {"spp": 8, "max_depth": 5, "edge_samples": 1}
+    every = _image_means(sc, range(12), light_roulette=0.0, **kw)
+    for k, seeds in ((1.0, range(12, 24)), (50.0, range(24, 48))):
+        assert_same_mean(_image_means(sc, seeds, light_roulette=k, **kw), every, slack=2e-3 * every.mean())
+
+    def segments(k):
+        return sum(wv.render(sc, seed=s, light_roulette=k, **kw).stats["segments"] for s in range(2))
+
+    assert segments(1.0) < 0.95 * segments(0.0)
+    assert segments(50.0) < segments(1.0)
+
+
 def test_light_crossing_finds_the_point_whose_image_a_direction_is():
     """B_S(w) of the Kerr proposal (integrators/lens_proposal.h): the images of a point on the lamp lead back
     to it (the direct one, and the one round the far side where no earlier crossing is in the way), and any

@@ -137,6 +137,11 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
     RenderOption("camera_light_samples", "bool", True, "Static spherical metrics, with the lens connection: in the "
                  "pixels where a light's or a star's lensed image is small (a far sun, a thin arc round a hole, "
                  "stars) the camera draws light samples of its own through the exact lens map."),  # fmt: skip
+    RenderOption("light_roulette", "real", 1.0, "Curved space, with the lens connection: Russian roulette on the "
+                 "light samples of a path's dim vertices. A light sample whose contribution, as far as it is known "
+                 "before its ray is traced, is below this times the largest on its path so far is traced with "
+                 "probability contribution / threshold and weighted by the inverse (still unbiased); 0 traces "
+                 "every one.", lo=0.0, hi=1e3),  # fmt: skip
     RenderOption("pixel_sampler", "choice", "sobol", "Where a camera sample falls in its pixel: 'sobol' "
                  "(stratified, Owen-scrambled Sobol) or 'independent' (uniform jitter).",
                  choices=("sobol", "independent")),  # fmt: skip

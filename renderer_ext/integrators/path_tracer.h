@@ -114,6 +114,7 @@ class PathTracer {
     LensVertex lens_v;
     V3 lens_w;
     double lens_pb = 0.0;
+    double light_ref = 0.0;  // the largest lens light sample estimate on the path so far (light_roulette)
     // So is the aimed connection's (the mixture pdf of the last vertex's proxies, kept in the path's Aim),
     // which only emission needs: most BSDF-sampled directions never meet an emitter.
     bool aimed_prev = false;
@@ -269,13 +270,15 @@ class PathTracer {
       const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
       if (!(max_component(f) > 0.0)) co_return;
       if (leaf >= 0) pb = guided_pdf(leaf, wl, pb);
+      double keep;
+      if (!light_roulette(ps, li, f, pl + pb, rng, keep)) co_return;
       Track* light_track = ps.open();
       SegmentEnd le;
       co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
                                  le);
       ps.close(le, e.sheet, bounce + 1, kLightSegment);
       if (lens_.light_sample_hits(le, sc_.lights[li], target))
-        add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
+        add_light(ps, e, li, ps.beta * f * emission_.emission(le) * (keep / (pl + pb)));
       co_return;
     }
     co_await lights_.aim(e, sp.normal, wo, st, frames, sched, aimed);
@@ -299,6 +302,27 @@ class PathTracer {
                                le);
     ps.close(le, e.sheet, bounce + 1, kLightSegment);
     add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
+  }
+
+  // Russian roulette on a lens light sample before its geodesic is traced (o_.light_roulette > 0): a sample whose
+  // contribution as far as it is known before tracing, beta f L_e / (pl + pb) with L_e the light's emission scale
+  // (no redshift, no visibility), is below light_roulette times the largest such estimate on this path so far is
+  // traced with probability estimate / threshold and its light then weighted by the inverse (keep): unbiased, and
+  // the light samples of a path's dim vertices (deep bounces, grazing light, a faint lamp) mostly cost no
+  // geodesic. The first sample on a path sets the scale and is always traced.
+  bool light_roulette(PathState& ps, int li, V3 f, double pdf, Rng& rng, double& keep) const {
+    keep = 1.0;
+    if (!(o_.light_roulette > 0.0)) return true;
+    const double c = max_component(ps.beta * f) *
+                     sc_.materials[sc_.prims[sc_.lights[size_t(li)]].material].emission_scale() / pdf;
+    if (!(c > 0.0) || !std::isfinite(c)) return true;
+    const double threshold = o_.light_roulette * ps.light_ref;
+    ps.light_ref = std::max(ps.light_ref, c);
+    if (c >= threshold) return true;
+    const double q = c / threshold;
+    if (rng.uniform() >= q) return false;
+    keep = 1.0 / q;
+    return true;
   }
 
   // The light strategy towards point light li - (area lights) of the scene (chosen with probability 1 / per)

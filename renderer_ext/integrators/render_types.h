@@ -50,6 +50,9 @@ struct RenderOptions {
   int light_connection = kLensConnection;
   int lens_images = 0;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
   bool camera_light_samples = false;  // ... and the camera's own light samples where a light's image is small
+  // ... and Russian roulette on its light samples: one whose estimate is below light_roulette times the
+  // largest on its path so far is traced with probability estimate / threshold (0: every one is traced).
+  double light_roulette = 0.0;
   int pixel_sampler = kSobolPixels;
   // Pixels on the edge of a light seen directly or in mirrors and glass, or seeing one in glass by some
   // samples' Fresnel choice only, get edge_samples x spp samples: the lamp's edge inside a pixel (a lensed

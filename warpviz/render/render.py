@@ -82,6 +82,7 @@ def render(
     light_connection: str | None = None,
     lens_images: int | None = None,
     camera_light_samples: bool | None = None,
+    light_roulette: float | None = None,
     pixel_sampler: str | None = None,
     edge_samples: int | None = None,
     detail_samples: int | None = None,
@@ -167,6 +168,14 @@ def render(
         several times less noisy. The bright stars of a star field whose images are smaller than their
         pixel are drawn the same way. Which pixels, and which lights and stars there, follow from the scene
         alone.
+    light_roulette : float, optional, keyword-only
+        Curved space, with the lens connection: Russian roulette on the light samples of a path's dim
+        vertices (default 1; 0 traces every light sample). Before its ray is traced, a light sample's
+        contribution is known but for its redshift and whether it is blocked; one below ``light_roulette``
+        times the largest so far on its path is traced with probability contribution / threshold and weighted
+        by the inverse, so the image stays unbiased and the light samples of deep bounces and grazing light
+        mostly cost no geodesic (1.05-1.11x the efficiency of the lit rooms: benchmarks/README.md, "Light
+        connection").
     pixel_sampler : {"sobol", "independent"}, optional, keyword-only
         Where a camera sample falls in its pixel. ``"sobol"`` (default): the pixel's Owen-scrambled Sobol
         sequence, stratified for every sample count, so edges inside a pixel (a lensed lamp, the shadow's
@@ -339,7 +348,7 @@ def render(
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
                  "stepper": stepper, "tol": tol, "aim_lights": aim_lights,
                  "light_connection": light_connection, "lens_images": lens_images,
-                 "camera_light_samples": camera_light_samples,
+                 "camera_light_samples": camera_light_samples, "light_roulette": light_roulette,
                  "pixel_sampler": pixel_sampler, "edge_samples": edge_samples, "detail_samples": detail_samples,
                  "filter": filter,
                  "filter_radius": filter_radius, "light_margin": light_margin, "pilot_tol": pilot_tol,
