@@ -7,6 +7,7 @@ line_element_kerr_newman (Kerr-Newman from its line element), each rendered with
 * ``lens``          the defaults: the lens-aware connection (the exact lens map where the metric is static
                     and spherical, in Kerr and a line element with a mass the Schwarzschild map of the same
                     mass as a proposal),
+                    Russian roulette on the light samples of a path's dim vertices (``light_roulette``),
                     stratified pixel samples, and 8x the samples in the pixels on a directly seen lamp's
                     edge (``edge_samples``); the rooms with a mirror and a glass ball trace caustics by photons
                     (their scenes' ``photons_per_pixel = 0.3``),
