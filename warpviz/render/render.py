@@ -174,7 +174,7 @@ def render(
         contribution is known but for its redshift and whether it is blocked; one below ``light_roulette``
         times the largest so far on its path is traced with probability contribution / threshold and weighted
         by the inverse, so the image stays unbiased and the light samples of deep bounces and grazing light
-        mostly cost no geodesic (1.05-1.11x the efficiency of the lit rooms: benchmarks/README.md, "Light
+        mostly cost no geodesic (1.04-1.09x the efficiency of the lit rooms: benchmarks/README.md, "Light
         connection").
     pixel_sampler : {"sobol", "independent"}, optional, keyword-only
         Where a camera sample falls in its pixel. ``"sobol"`` (default): the pixel's Owen-scrambled Sobol
