@@ -310,11 +310,26 @@ void bind_testing(nb::module_& m) {
         const wv::LensMap map(lens, 1.0 / r_a, 1.0 / r_b, same_sheet);
         const wv::LensRay r = map.solve(phi);
         if (!r.ok) return nb::none();
-        return nb::make_tuple(r.psi, r.phi, r.dphi_dpsi, r.dr_dphi, r.b);
+        return nb::make_tuple(r.psi, r.phi, r.dphi_dpsi, r.dr_dphi, r.b, r.evals);
       },
       "metric"_a, "params"_a, "r_a"_a, "r_b"_a, "same_sheet"_a, "phi"_a,
       "Test hook: the ray from radius r_a to r_b sweeping azimuth phi, as (psi, phi, dphi/dpsi, dR/dphi at "
-      "B, b), or None.");
+      "B, b, evaluations of Phi the root took), or None.");
+  m.def(
+      "lens_ray_at_psi",
+      [](const std::string& metric, const std::vector<double>& params, double r_a, double r_b, bool same_sheet,
+         double psi) -> nb::object {
+        wv::SphericalLens lens;
+        if (!wv::make_spacetime(metric, params)->spherical_lens(lens))
+          throw std::invalid_argument(metric + " is not static and spherically symmetric");
+        const wv::LensMap map(lens, 1.0 / r_a, 1.0 / r_b, same_sheet);
+        const wv::LensRay r = map.at_psi(psi);
+        if (!r.ok) return nb::none();
+        return nb::make_tuple(r.psi, r.phi, r.dphi_dpsi, r.dr_dphi, r.b);
+      },
+      "metric"_a, "params"_a, "r_a"_a, "r_b"_a, "same_sheet"_a, "psi"_a,
+      "Test hook: the ray from radius r_a (<= r_b, or to the other sheet) leaving at angle psi from the outward "
+      "radial direction, evaluated forward, as (psi, phi, dphi/dpsi, dR/dphi at B, b), or None.");
   m.def(
       "lens_images",
       [](const std::string& metric, const std::vector<double>& params, F64In pos_a, int sheet_a, F64In normal_a,

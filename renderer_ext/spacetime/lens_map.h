@@ -78,6 +78,7 @@ struct SphericalLens {
 struct LensRay {
   bool ok = false;
   double psi = 0.0, phi = 0.0, dphi_dpsi = 0.0, dr_dphi = 0.0, b = 0.0;
+  int evals = 0;  // evaluations of Phi that found it (LensMap::solve)
 };
 
 class LensMap {
@@ -121,12 +122,20 @@ class LensMap {
   // The ray that sweeps Phi = target: safeguarded Newton in z = -log(1 - (tau - tau_lo) / (tau_hi - tau_lo)),
   // in which Phi grows about linearly all the way (it diverges logarithmically in tau), started from
   // `guess` (a z; negative: the middle). Returns the ray and its z.
+  //
+  // Newton converges quadratically, so once the step from the last evaluation is small the root it lands
+  // on is Phi = target to well below the tolerance, and the evaluation that would only confirm it is
+  // skipped: the ray there is the one evaluated, moved on by the step (psi and b exactly, dPhi/dz by the
+  // secant through the last two evaluations). That takes 21-26 % of the evaluations out of the order-0
+  // and order-1 images of a room (3.6 and 2.7 per image against 4.6 and 3.5) at a residual of
+  // Phi below 1e-10 relative, as before.
   LensRay solve(double target, double guess = -1.0, double* z_out = nullptr) const {
     LensRay none;
     if (!valid_ || !(target >= 0.0)) return none;
-    const double span = tau_hi_ - tau_lo_;
+    const double span = tau_hi_ - tau_lo_, tol = 1e-10 * std::max(1.0, target);
     double lo = 0.0, hi = INFINITY;
     double z = guess >= 0.0 ? guess : std::log(2.0);
+    double z_prev = NAN, f_prev = NAN, slope_prev = NAN;  // the last evaluation's z, Phi - target, dPhi/dz
     for (int it = 0; it < 60; ++it) {
       const double gap = -std::expm1(-z);  // (tau - tau_lo) / span
       const double tau = tau_lo_ + span * gap;
@@ -136,9 +145,11 @@ class LensMap {
       if (!(tau < tau_hi_) || !eval(tau, r, &dphi_dtau)) {
         hi = z;  // only the far end (rays that fall in, or rounding there) can fail
         next = 0.5 * (lo + hi);
+        z_prev = NAN;
       } else {
         const double f = r.phi - target;
-        if (std::fabs(f) <= 1e-10 * std::max(1.0, target)) {  // B to ~1e-10 of its radius
+        r.evals = it + 1;
+        if (std::fabs(f) <= tol) {  // B to ~1e-10 of its radius
           if (z_out) *z_out = z;
           return r;
         }
@@ -151,6 +162,24 @@ class LensMap {
         }
         const double dphi_dz = dphi_dtau * span * std::exp(-z);
         next = dphi_dz > 0.0 ? z - f / dphi_dz : -1.0;
+        if (next > lo && next < hi && std::isfinite(z_prev) && std::fabs(f) <= 1e-5 * std::max(1.0, target)) {
+          // Phi's curvature in z at z from the cubic through the last two evaluations (values and slopes);
+          // the step's residual is about curv step^2 / 2.
+          const double w = z - z_prev, step = next - z;
+          const double curv = (6.0 * (f_prev - f) + w * (2.0 * slope_prev + 4.0 * dphi_dz)) / (w * w);
+          LensRay moved;
+          // (from evaluations close together: from far apart the cubic's curvature misses by ~1e-1, the
+          // slope by ~1e-7)
+          if (std::fabs(w) <= 0.3 && std::isfinite(curv) && 0.5 * std::fabs(curv) * step * step <= 0.1 * tol &&
+              moved_ray(tau_lo_ + span * -std::expm1(-z_prev), tau, next, target, dphi_dz + curv * step, moved)) {
+            if (z_out) *z_out = next;
+            moved.evals = it + 1;
+            return moved;
+          }
+        }
+        z_prev = z;
+        f_prev = f;
+        slope_prev = dphi_dz;
         if (!(next > lo && next < hi)) next = std::isfinite(hi) ? 0.5 * (lo + hi) : 2.0 * z + 1.0;
       }
       z = next;
@@ -236,7 +265,9 @@ class LensMap {
     through = false;
     const double ui = s_.u_inner;
     const double pi = peval(p, ui);
-    if (s_.throat && std::fabs(pi) <= 1e-14) {
+    double size = 0.0;  // of P's terms at the throat, where they cancel: its rounding error is ~1e-16 of it
+    for (int k = np_ - 1; k >= 0; --k) size = size * ui + std::fabs(p[k]);
+    if (s_.throat && std::fabs(pi) <= 1e-14 * size) {
       // The throat is always a root; a periapsis comes first if P dips below zero before it.
       double umin = 0.0;
       const double pmid = peval(p, ui * (1.0 - 1e-9));
@@ -345,26 +376,38 @@ class LensMap {
   }
 
   // Phi, psi and their tau-derivatives for branch parameter tau; dR/dphi at B.
-  bool eval(double tau_v, LensRay& r, double* dphi_dtau) const {
+  // The ray at branch parameter tau before its sweep: impact parameter b and emission angle psi with their
+  // tau-derivatives, whether it leaves A inward and whether it passes its turning point before reaching B.
+  struct Branch {
+    D1 b, psi;
+    bool inward = false, after_turn = false;
+  };
+  bool branch(double tau_v, Branch& br) const {
     const D1 tau = D1::variable(tau_v, 0);
     const double sA = uA_ * std::sqrt(AA_);  // sin psi = b sA
-    D1 b, psi;
-    bool inward, after_turn;
     if (case_ == kInward) {
-      b = D1(bB_) - tau * tau;
-      if (!(b.v >= 0.0)) return false;
-      const double s = std::min(1.0, b.v * sA);
-      psi.v = M_PI - std::asin(s);
-      psi.d[0] = -b.d[0] * sA / std::sqrt(std::max(1e-300, 1.0 - s * s));
-      inward = true;
-      after_turn = tau_v >= 0.0;
+      br.b = D1(bB_) - tau * tau;
+      if (!(br.b.v >= 0.0)) return false;
+      const double s = std::min(1.0, br.b.v * sA);
+      br.psi.v = M_PI - std::asin(s);
+      br.psi.d[0] = -br.b.d[0] * sA / std::sqrt(std::max(1e-300, 1.0 - s * s));
+      br.inward = true;
+      br.after_turn = tau_v >= 0.0;
     } else {
-      psi = case_ == kThroat ? D1(M_PI) - tau : tau;
-      b.v = std::sin(psi.v) / sA;
-      b.d[0] = std::cos(psi.v) * psi.d[0] / sA;
-      inward = psi.v > 0.5 * M_PI;
-      after_turn = inward;
+      br.psi = case_ == kThroat ? D1(M_PI) - tau : tau;
+      br.b.v = std::sin(br.psi.v) / sA;
+      br.b.d[0] = std::cos(br.psi.v) * br.psi.d[0] / sA;
+      br.inward = br.psi.v > 0.5 * M_PI;
+      br.after_turn = br.inward;
     }
+    return true;
+  }
+
+  bool eval(double tau_v, LensRay& r, double* dphi_dtau) const {
+    Branch br;
+    if (!branch(tau_v, br)) return false;
+    const D1 b = br.b, psi = br.psi;
+    const bool inward = br.inward, after_turn = br.after_turn;
     if (cubic_m_ > 0.0) {
       // Schwarzschild's cubic: the periapsis in closed form (light_cubic.h) and its derivative
       // du_t/db = -P_b / P_u = -u_t (1 - 2M u_t) / (b (1 - 3M u_t)), P = 1 - b^2 u^2 (1 - 2M u).
@@ -425,6 +468,24 @@ class LensMap {
       root_p_b = std::sqrt(std::max(0.0, peval(p, uB_)));
     }
     return finish(r, phi, psi, b, inward, after_turn, root_p_b, dphi_dtau);
+  }
+
+  // The ray at z (branch parameter tau) found one Newton step from the one evaluated at tau_from: it sweeps
+  // `target`, with dPhi/dz = slope there (from the evaluations at tau_prev and tau_from). False where these
+  // three rays are not all on one branch (one turns round or leaves inward where another does not: Phi's
+  // curvature jumps there): then the caller evaluates.
+  bool moved_ray(double tau_prev, double tau_from, double z, double target, double slope, LensRay& r) const {
+    const double tau = tau_lo_ + (tau_hi_ - tau_lo_) * -std::expm1(-z);
+    Branch prev, from, br;
+    if (!(tau < tau_hi_) || !branch(tau_prev, prev) || !branch(tau_from, from) || !branch(tau, br)) return false;
+    for (const Branch* o : {&prev, &from})
+      if (br.inward != o->inward || br.after_turn != o->after_turn) return false;
+    if (!(slope > 0.0)) return false;
+    // sqrt(P(u_B)) = sqrt(h (1 - b^2 u_B^2 A)) at B; at a ray grazing B's sphere it is ~0 either way.
+    const double pB = poly(s_.h, uB_) * (1.0 - br.b.v * br.b.v * uB_ * uB_ * poly(s_.a, uB_));
+    D1 phi(target);
+    phi.d[0] = slope / ((tau_hi_ - tau_lo_) * std::exp(-z));  // dPhi/dtau
+    return finish(r, phi, br.psi, br.b, br.inward, br.after_turn, std::sqrt(std::max(0.0, pB)), nullptr);
   }
 
   bool finish(LensRay& r, D1 phi, D1 psi, D1 b, bool inward, bool after_turn, double root_p_b,
