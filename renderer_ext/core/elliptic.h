@@ -72,9 +72,22 @@ class JacobiFunctions {
   JacobiFunctions() = default;
   explicit JacobiFunctions(double m) : m_(m) {
     if (!(m > 0.0 && m <= kMaxParameter)) return;
-    K_ = elliptic_k(m);
-    const double Kp = elliptic_k(1.0 - m);
-    const double q = std::exp(-M_PI * Kp / K_);
+    // The nome q = exp(-pi K(1 - m) / K(m)): for m <= 1/2 from Jacobi's series in l = (1 - sqrt k') / (2 (1 +
+    // sqrt k')), k' = sqrt(1 - m), q = l + 2 l^5 + 15 l^9 + 150 l^13 + 1707 l^17 + ... (l <= 0.043: the last
+    // term below 1e-20), and then K = (pi / 2) th3^2 from the same theta constants as the functions: no
+    // arithmetic-geometric mean at all (two of them, with a logarithm, were ~60 % of a closed-form orbit's
+    // set-up). Above 1/2, from K and K' by their means.
+    const bool series = m <= 0.5;
+    double q;
+    if (series) {
+      // 1 - k'^(1/2) = m / ((1 + k') (1 + k'^(1/2))): no cancellation for small m.
+      const double kp = std::sqrt(1.0 - m), skp = std::sqrt(kp);
+      const double l = 0.5 * m / ((1.0 + kp) * (1.0 + skp) * (1.0 + skp)), l4 = (l * l) * (l * l);
+      q = l * (1.0 + l4 * (2.0 + l4 * (15.0 + l4 * (150.0 + l4 * 1707.0))));
+    } else {
+      K_ = elliptic_k(m);
+      q = std::exp(-M_PI * elliptic_k(1.0 - m) / K_);
+    }
     // Coefficients: a_n = q^((n + 1/2)^2) (th1, th2), c_n = q^(n^2) (th3, th4, n >= 1).
     double th2 = 0.0, th3 = 1.0, th4 = 1.0;
     // q^(n^2) by the recurrence q^((n+1)^2) = q^(n^2) q^(2n+1); q^((n+1/2)^2) = q^(1/4) q^(n^2 + n).
@@ -96,6 +109,7 @@ class JacobiFunctions {
       if (a_[n] < 1e-18 && (n == 0 || c_[n] < 1e-18)) break;
     }
     if (!(q < 0.5) || a_[n_ - 1] > 1e-16) return;
+    if (series) K_ = 0.5 * M_PI * th3 * th3;
     s_sn_ = th3 / th2;
     s_cn_ = th4 / th2;
     s_dn_ = th4 / th3;
