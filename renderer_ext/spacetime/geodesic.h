@@ -73,9 +73,9 @@ struct RayResult {
 
 // Surfaces tested along each accepted step (none for plain geodesics). A surface set provides
 //   static constexpr bool kActive = true;
-//   static constexpr bool kDenseEnd;    // true: the state at a hit is the step's dense output there, where
-//                                       // only the hit point matters (pilots) and the stepper's dense output
-//                                       // is accurate (kAccurateDense); otherwise a full-order step to the hit
+//   static constexpr bool kDenseEnd;    // true: the state at a hit is the step's dense output there where
+//                                       // the stepper's dense output is as accurate as its step
+//                                       // (kAccurateDense); otherwise a full-order step to the hit
 //   template <class S> bool find(const S& stepper, const double* y, const double* ynew, double h, int sheet,
 //                                double& theta, int& prim);
 // returning the fraction theta of the step at which the path first crosses a surface.
