@@ -303,18 +303,23 @@ void bind_testing(nb::module_& m) {
   m.def(
       "lens_ray",
       [](const std::string& metric, const std::vector<double>& params, double r_a, double r_b, bool same_sheet,
-         double phi) -> nb::object {
+         double phi, const std::string& start) -> nb::object {
         wv::SphericalLens lens;
         if (!wv::make_spacetime(metric, params)->spherical_lens(lens))
           throw std::invalid_argument(metric + " is not static and spherically symmetric");
         const wv::LensMap map(lens, 1.0 / r_a, 1.0 / r_b, same_sheet);
-        const wv::LensRay r = map.solve(phi);
+        double guess = -1.0;
+        if (start == "flat") guess = map.flat_guess(phi);
+        else if (start == "direct") guess = map.direct_guess(phi);
+        else if (start != "middle") throw std::invalid_argument("start must be 'middle', 'flat' or 'direct'");
+        const wv::LensRay r = map.solve(phi, guess);
         if (!r.ok) return nb::none();
         return nb::make_tuple(r.psi, r.phi, r.dphi_dpsi, r.dr_dphi, r.b, r.evals);
       },
-      "metric"_a, "params"_a, "r_a"_a, "r_b"_a, "same_sheet"_a, "phi"_a,
+      "metric"_a, "params"_a, "r_a"_a, "r_b"_a, "same_sheet"_a, "phi"_a, "start"_a = "middle",
       "Test hook: the ray from radius r_a to r_b sweeping azimuth phi, as (psi, phi, dphi/dpsi, dR/dphi at "
-      "B, b, evaluations of Phi the root took), or None.");
+      "B, b, evaluations of Phi the root took), or None; the root started from the middle of its branch, the "
+      "straight line (`flat`, phi < pi) or the straight line aimed short by the first-order bending (`direct`).");
   m.def(
       "lens_ray_at_psi",
       [](const std::string& metric, const std::vector<double>& params, double r_a, double r_b, bool same_sheet,

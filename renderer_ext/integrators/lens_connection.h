@@ -110,7 +110,7 @@ inline LensImageRays lens_image_rays(const SphericalLens& lens, const LensVertex
   // Orders in turn, each started from the last one's root moved on by the difference in Phi: far along a
   // branch (towards the photon sphere or the throat) Phi grows about as fast as z, which saves 1-4 of the
   // 4-8 evaluations a plain Newton start from the last root takes (Schwarzschild, Ellis).
-  double z = map.flat_guess(gamma), last_target = gamma;
+  double z = map.direct_guess(gamma), last_target = gamma;
   for (int m = 0; m < std::min(orders, LensImages::kMax); ++m) {
     const bool long_way = m % 2 == 1;
     const double target = long_way ? kTwoPi * double((m + 1) / 2) - gamma : kTwoPi * double(m / 2) + gamma;

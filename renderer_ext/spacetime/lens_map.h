@@ -199,6 +199,29 @@ class LensMap {
     return r;
   }
 
+  // z of the order-0 image's start: the straight line from A to B (flat_guess) aimed short of B by 0.8 of the
+  // bending that the line's own impact parameter b gets to first order in the mass M (A = 1 - 2M u + ...),
+  // (2M / b)(cos a_A + cos a_B) for a line that passes its closest point between A and B and (2M / b)
+  // |cos a_A - cos a_B| for one that does not (sin a = b / R at either end). From the room pairs of a
+  // Schwarzschild hole 3.2 Newton evaluations to the root instead of 3.7 from the straight line (0.8: the
+  // factor that did best between 0.6 and 1.2; the first-order bending overshoots the strong field's share).
+  double direct_guess(double gamma) const {
+    const double M = -0.5 * s_.a[1];
+    if (!valid_ || s_.throat || !(M > 0.0)) return flat_guess(gamma);
+    const double RA = 1.0 / uA_, RB = 1.0 / uB_;
+    const double dx = RB * std::cos(gamma) - RA, dy = RB * std::sin(gamma);
+    const double len = std::sqrt(dx * dx + dy * dy);
+    if (!(len > 0.0)) return flat_guess(gamma);
+    const double b = RA * std::fabs(dy) / len;
+    const bool passes_closest = RA * dx < 0.0 && dx * RB * std::cos(gamma) + dy * RB * std::sin(gamma) > 0.0;
+    const double ca = std::sqrt(std::max(0.0, 1.0 - b * b * uA_ * uA_)),
+                 cb = std::sqrt(std::max(0.0, 1.0 - b * b * uB_ * uB_));
+    const double bend = 2.0 * M / b * (passes_closest ? ca + cb : std::fabs(ca - cb));
+    const double aim = gamma - 0.8 * bend;
+    const double z = aim > 1e-6 && std::isfinite(aim) ? flat_guess(aim) : -1.0;
+    return z >= 0.0 ? z : flat_guess(gamma);
+  }
+
   // z of the straight line from A to B seen as if space were flat (at angle gamma = AOB, short way):
   // the order-0 image's start.
   double flat_guess(double gamma) const {
