@@ -13,6 +13,7 @@
 #include "bindings/scene_dict.h"
 #include "engine/registry.h"
 #include "core/elliptic.h"
+#include "core/trig.h"
 #include "core/sobol.h"
 #include "film/pixel_filter.h"
 #include "integrators/guide_tree.h"
@@ -300,6 +301,16 @@ void bind_testing(nb::module_& m) {
       "Test hook: the closed-form orbit (spacetime/planar_orbit.h): u and du/dphi at phi (n,), and the azimuth "
       "(k, 2) at which it reaches each target u on its inward and outward branch (NaN: not ahead); None where "
       "the closed form does not apply.");
+  m.def(
+      "sin_cos",
+      [](F64In x) {
+        const auto xv = copy1(x, x.ndim() == 1 ? x.shape(0) : 0, "x");
+        std::vector<double> s(xv.size()), c(xv.size());
+        for (size_t i = 0; i < xv.size(); ++i) wv::sin_cos(xv[i], s[i], c[i]);
+        const size_t n = xv.size();
+        return nb::make_tuple(to_numpy(std::move(s), {n}), to_numpy(std::move(c), {n}));
+      },
+      "x"_a, "Test hook: core/trig.h's sine and cosine of x (n,), as two (n,) arrays.");
   m.def(
       "lens_ray",
       [](const std::string& metric, const std::vector<double>& params, double r_a, double r_b, bool same_sheet,

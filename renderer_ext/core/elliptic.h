@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/dual.h"
+#include "core/trig.h"
 
 namespace wv {
 
@@ -123,7 +124,8 @@ class JacobiFunctions {
 
   JacobiValues operator()(double x) const {
     const double z = scale_ * x;
-    const double s1 = std::sin(z), c1 = std::cos(z);
+    double s1, c1;
+    sin_cos(z, s1, c1);
     // sin((2n + 1) z), cos((2n + 1) z) and cos(2n z), each advanced by the recurrence
     // x_{n+1} = 2 cos(2z) x_n - x_{n-1} from its values at n = 0 and n = -1.
     const double c2 = 2.0 * c1 * c1 - 1.0, t2 = 2.0 * c2;

@@ -26,6 +26,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/trig.h"
 #include "core/vec3.h"
 #include "integrators/lens_proposal.h"
 #include "integrators/segment.h"
@@ -122,8 +123,10 @@ inline LensImageRays lens_image_rays(const SphericalLens& lens, const LensVertex
     ir.t_user = long_way ? -toward : toward;
     V3 t_local = v.to_local(ir.t_user);
     ir.t_local = normalize(t_local - v.radial_local * dot(t_local, v.radial_local));
-    ir.w = v.radial_local * std::cos(ir.r.psi) + ir.t_local * std::sin(ir.r.psi);
-    const double sp = std::sin(ir.r.phi), cp = std::cos(ir.r.phi);
+    double spsi, cpsi, sp, cp;
+    sin_cos(ir.r.psi, spsi, cpsi);
+    sin_cos(ir.r.phi, sp, cp);
+    ir.w = v.radial_local * cpsi + ir.t_local * spsi;
     ir.phi_hat = xa * (-sp) + ir.t_user * cp;
     ir.t_arr = normalize(xb * ir.r.dr_dphi + ir.phi_hat * RB);
     ++out.n;

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/trig.h"
 #include "core/vec3.h"
 #include "integrators/surface_hits.h"
 #include "scene/scene.h"
@@ -105,7 +106,8 @@ class OrbitSegments {
     }
     if (prim >= 0) {
       const OrbitPoint h = w.at(phi_hit);
-      const double c = std::cos(phi_hit), s = std::sin(phi_hit);
+      double c, s;
+      sin_cos(phi_hit, s, c);
       const V3 radial = w.e1 * c + w.e2 * s, tangent = w.e2 * c - w.e1 * s;
       // Travel direction in the static frame: b (-u' r + u sqrt(A) phi), A = 1 - 2M u (a unit vector:
       // u'^2 + u^2 A = 1 / b^2).
@@ -154,8 +156,7 @@ class OrbitSegments {
     Polar polar(double phi) const {
       Polar q;
       q.u = orb.u(phi, &q.du);
-      q.c = std::cos(phi);
-      q.s = std::sin(phi);
+      sin_cos(phi, q.s, q.c);
       q.r = e1 * q.c + e2 * q.s;
       q.a = e2 * q.c - e1 * q.s;
       return q;

@@ -37,6 +37,7 @@
 
 #include "core/dual.h"
 #include "core/elliptic.h"
+#include "core/trig.h"
 #include "spacetime/light_cubic.h"
 
 namespace wv {
@@ -418,8 +419,10 @@ class LensMap {
       br.after_turn = tau_v >= 0.0;
     } else {
       br.psi = case_ == kThroat ? D1(M_PI) - tau : tau;
-      br.b.v = std::sin(br.psi.v) / sA;
-      br.b.d[0] = std::cos(br.psi.v) * br.psi.d[0] / sA;
+      double sp, cp;
+      sin_cos(br.psi.v, sp, cp);
+      br.b.v = sp / sA;
+      br.b.d[0] = cp * br.psi.d[0] / sA;
       br.inward = br.psi.v > 0.5 * M_PI;
       br.after_turn = br.inward;
     }

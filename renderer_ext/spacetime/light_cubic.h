@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/trig.h"
+
 namespace wv {
 
 struct LightCubic {
@@ -43,7 +45,9 @@ struct LightCubic {
   // 2 the negative one (u1).
   double theta() const { return 2.0 * std::asin(std::min(1.0, std::sqrt(6.75 * beta()))); }
   static double trig_root(double th, int k) {
-    const double s6 = std::sin(th / 6.0), s3 = std::sin(th / 3.0);
+    double s6, c6;
+    sin_cos(th / 6.0, s6, c6);
+    const double s3 = 2.0 * s6 * c6;  // sin(th / 3)
     if (k == 0) return 1.0 - (4.0 / 3.0) * s6 * s6;
     const double a = (2.0 / 3.0) * s6 * s6, c = s3 / std::sqrt(3.0);
     return k == 1 ? a + c : a - c;
