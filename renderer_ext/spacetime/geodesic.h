@@ -289,7 +289,7 @@ class GeodesicRay {
     h_scale_ = std::max(h_scale_, hp.mag);
     if constexpr (Surf::kActive) {
       // Surface hit: located on the dense output; the state there from a full-order step, or the dense
-      // output itself where only the hit point matters (kDenseEnd).
+      // output itself where the surfaces accept it (kDenseEnd) and the stepper's is as accurate as its step.
       double theta;
       int prim;
       if (surfaces_ && surfaces_->find(st, y, ynew, h, sheet_, theta, prim)) {

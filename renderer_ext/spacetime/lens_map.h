@@ -126,10 +126,10 @@ class LensMap {
   //
   // Newton converges quadratically, so once the step from the last evaluation is small the root it lands
   // on is Phi = target to well below the tolerance, and the evaluation that would only confirm it is
-  // skipped: the ray there is the one evaluated, moved on by the step (psi and b exactly, dPhi/dz by the
-  // secant through the last two evaluations). That takes 21-26 % of the evaluations out of the order-0
-  // and order-1 images of a room (3.6 and 2.7 per image against 4.6 and 3.5) at a residual of
-  // Phi below 1e-10 relative, as before.
+  // skipped: the ray there is the one evaluated, moved on by the step (psi and b exactly, dPhi/dz from the
+  // cubic through the last two evaluations; moved_ray). That takes 20-25 % of the evaluations out of the
+  // order-0 and order-1 images of a room (3.7 and 2.7 per image against 4.6 and 3.5 from the same starts)
+  // at a residual of Phi below 1e-10 relative, as before.
   LensRay solve(double target, double guess = -1.0, double* z_out = nullptr) const {
     LensRay none;
     if (!valid_ || !(target >= 0.0)) return none;
@@ -399,7 +399,6 @@ class LensMap {
     return sum * b;
   }
 
-  // Phi, psi and their tau-derivatives for branch parameter tau; dR/dphi at B.
   // The ray at branch parameter tau before its sweep: impact parameter b and emission angle psi with their
   // tau-derivatives, whether it leaves A inward and whether it passes its turning point before reaching B.
   struct Branch {
@@ -429,6 +428,7 @@ class LensMap {
     return true;
   }
 
+  // Phi, psi and their tau-derivatives for branch parameter tau; dR/dphi at B.
   bool eval(double tau_v, LensRay& r, double* dphi_dtau) const {
     Branch br;
     if (!branch(tau_v, br)) return false;
