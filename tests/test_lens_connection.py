@@ -122,7 +122,7 @@ def test_a_root_taken_one_newton_step_past_the_last_evaluation_is_the_ray_there(
     """The root skips the evaluation that would only confirm a converged Newton step and moves the last ray
     evaluated on by that step: its sweep, dPhi/dpsi and dR/dphi at B are the forward evaluation's at its
     angle, over rooms of radii and every sweep of images of order 0 to 2, and it takes fewer evaluations
-    than a confirmed Newton root (at least one per root, two from the second evaluation on)."""
+    than a root whose every Newton step is confirmed."""
     m, params = _example(entry)
     s = _scale(m)
     rng = np.random.default_rng(5)
