@@ -29,6 +29,14 @@ namespace wv::bindings {
 
 namespace {
 
+// The lens of a registered metric that declares itself static and spherically symmetric (the lens-map hooks).
+wv::SphericalLens spherical_lens_of(const std::string& metric, const std::vector<double>& params) {
+  wv::SphericalLens lens;
+  if (!wv::make_spacetime(metric, params)->spherical_lens(lens))
+    throw std::invalid_argument(metric + " is not static and spherically symmetric");
+  return lens;
+}
+
 // Test hook for the BSDFs: samples material `material` (a complete native material dict, as
 // warpviz.scene.native.native_material writes it, without textures: the albedo is given) at
 // local normal n for outgoing direction wo with the given uniforms u (N, 3), and evaluates the BSDF at
@@ -315,9 +323,7 @@ void bind_testing(nb::module_& m) {
       "lens_ray",
       [](const std::string& metric, const std::vector<double>& params, double r_a, double r_b, bool same_sheet,
          double phi, const std::string& start) -> nb::object {
-        wv::SphericalLens lens;
-        if (!wv::make_spacetime(metric, params)->spherical_lens(lens))
-          throw std::invalid_argument(metric + " is not static and spherically symmetric");
+        const wv::SphericalLens lens = spherical_lens_of(metric, params);
         const wv::LensMap map(lens, 1.0 / r_a, 1.0 / r_b, same_sheet);
         double guess = -1.0;
         if (start == "flat") guess = map.flat_guess(phi);
@@ -335,9 +341,7 @@ void bind_testing(nb::module_& m) {
       "lens_ray_at_psi",
       [](const std::string& metric, const std::vector<double>& params, double r_a, double r_b, bool same_sheet,
          double psi) -> nb::object {
-        wv::SphericalLens lens;
-        if (!wv::make_spacetime(metric, params)->spherical_lens(lens))
-          throw std::invalid_argument(metric + " is not static and spherically symmetric");
+        const wv::SphericalLens lens = spherical_lens_of(metric, params);
         const wv::LensMap map(lens, 1.0 / r_a, 1.0 / r_b, same_sheet);
         const wv::LensRay r = map.at_psi(psi);
         if (!r.ok) return nb::none();
@@ -350,9 +354,7 @@ void bind_testing(nb::module_& m) {
       "lens_images",
       [](const std::string& metric, const std::vector<double>& params, F64In pos_a, int sheet_a, F64In normal_a,
          F64In pos_b, F64In normal_b, int sheet_b, double area, bool two_sided, int orders) {
-        wv::SphericalLens lens;
-        if (!wv::make_spacetime(metric, params)->spherical_lens(lens))
-          throw std::invalid_argument(metric + " is not static and spherically symmetric");
+        const wv::SphericalLens lens = spherical_lens_of(metric, params);
         const auto a = copy1(pos_a, 3, "pos_a"), na = copy1(normal_a, 3, "normal_a");
         const auto b = copy1(pos_b, 3, "pos_b"), nb_ = copy1(normal_b, 3, "normal_b");
         wv::LensVertex v;  // the local frame aligned with the user axes (the static frame's, see trace())

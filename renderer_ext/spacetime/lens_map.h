@@ -200,6 +200,18 @@ class LensMap {
     return r;
   }
 
+  // The segment A -> B in the plane of A, B and the centre (A on the x axis, B at angle gamma): d = B - A, and
+  // whether the line's closest point to the centre lies between A and B (A.d < 0 < B.d).
+  struct FlatLine {
+    double dx, dy;
+    bool passes_closest;
+  };
+  FlatLine flat_line(double gamma) const {
+    const double RA = 1.0 / uA_, RB = 1.0 / uB_, c = std::cos(gamma), s = std::sin(gamma);
+    const double dx = RB * c - RA, dy = RB * s;
+    return {dx, dy, RA * dx < 0.0 && dx * RB * c + dy * RB * s > 0.0};
+  }
+
   // z of the order-0 image's start: the straight line from A to B (flat_guess) aimed short of B by 0.8 of the
   // bending that the line's own impact parameter b gets to first order in the mass M (A = 1 - 2M u + ...),
   // (2M / b)(cos a_A + cos a_B) for a line that passes its closest point between A and B and (2M / b)
@@ -209,15 +221,13 @@ class LensMap {
   double direct_guess(double gamma) const {
     const double M = -0.5 * s_.a[1];
     if (!valid_ || s_.throat || !(M > 0.0)) return flat_guess(gamma);
-    const double RA = 1.0 / uA_, RB = 1.0 / uB_;
-    const double dx = RB * std::cos(gamma) - RA, dy = RB * std::sin(gamma);
-    const double len = std::sqrt(dx * dx + dy * dy);
+    const FlatLine l = flat_line(gamma);
+    const double len = std::sqrt(l.dx * l.dx + l.dy * l.dy);
     if (!(len > 0.0)) return flat_guess(gamma);
-    const double b = RA * std::fabs(dy) / len;
-    const bool passes_closest = RA * dx < 0.0 && dx * RB * std::cos(gamma) + dy * RB * std::sin(gamma) > 0.0;
+    const double b = (1.0 / uA_) * std::fabs(l.dy) / len;
     const double ca = std::sqrt(std::max(0.0, 1.0 - b * b * uA_ * uA_)),
                  cb = std::sqrt(std::max(0.0, 1.0 - b * b * uB_ * uB_));
-    const double bend = 2.0 * M / b * (passes_closest ? ca + cb : std::fabs(ca - cb));
+    const double bend = 2.0 * M / b * (l.passes_closest ? ca + cb : std::fabs(ca - cb));
     const double aim = gamma - 0.8 * bend;
     const double z = aim > 1e-6 && std::isfinite(aim) ? flat_guess(aim) : -1.0;
     return z >= 0.0 ? z : flat_guess(gamma);
@@ -227,10 +237,8 @@ class LensMap {
   // the order-0 image's start.
   double flat_guess(double gamma) const {
     if (!valid_) return -1.0;
-    const double RA = 1.0 / uA_, RB = 1.0 / uB_;
-    // The segment A -> B in the plane: its angle psi from A's outward radial direction.
-    const double dx = RB * std::cos(gamma) - RA, dy = RB * std::sin(gamma);
-    const double psi = std::atan2(dy, dx);
+    const FlatLine l = flat_line(gamma);
+    const double psi = std::atan2(l.dy, l.dx);  // the segment's angle from A's outward radial direction
     double tau;
     if (case_ == kOutward) {
       tau = psi;
@@ -238,9 +246,7 @@ class LensMap {
       tau = M_PI - psi;
     } else {
       const double b = std::sin(psi) / (uA_ * std::sqrt(AA_));
-      // The line's closest point to the centre lies between A and B: A.d < 0 < B.d, d = B - A.
-      const bool passes_closest = RA * dx < 0.0 && dx * RB * std::cos(gamma) + dy * RB * std::sin(gamma) > 0.0;
-      tau = (passes_closest ? 1.0 : -1.0) * std::sqrt(std::max(0.0, bB_ - std::min(b, bB_)));
+      tau = (l.passes_closest ? 1.0 : -1.0) * std::sqrt(std::max(0.0, bB_ - std::min(b, bB_)));
     }
     const double gap = (tau - tau_lo_) / (tau_hi_ - tau_lo_);
     if (!(gap > 0.0 && gap < 1.0)) return -1.0;
