@@ -102,6 +102,8 @@ class PlanarOrbit {
 
   // d^2u/dphi^2 at u (the orbit equation, whatever the branch).
   double ddu(double u) const { return 3.0 * M_ * u * u - u; }
+  // d^3u/dphi^3 at u with du/dphi = du.
+  double dddu(double u, double du) const { return (6.0 * M_ * u - 1.0) * du; }
 
   // The azimuth at which the ray is at u on its inward (u increasing) or outward branch; NaN where that
   // branch does not reach u or reached it behind the start.
