@@ -117,6 +117,54 @@ def test_lens_map_derivatives_match_finite_differences_of_traced_rays(entry):
         assert 2 * eps / (q_plus - q_minus) == pytest.approx(dr_dphi, rel=1e-4)
 
 
+def _sweep_round_periapsis(mass, r_a, r_b, b):
+    """int b du / sqrt(P(u)) from 1/r_a and from 1/r_b up to the periapsis u_t, P = 1 - b^2 u^2 (1 - 2M u), by
+    mpmath's quadrature in t, u = u_t - t^2, where P(u_t - t^2) / t^2 is a quadratic in t^2 (no endpoint root)."""
+    import mpmath as mp  # (sympy's)
+
+    mp.mp.dps = 30
+    b = mp.mpf(b)
+    u_t = mp.findroot(lambda u: 1 - b * b * u * u * (1 - 2 * mass * u), (1 / b, mp.mpf(1) / (3 * mass)),
+                      solver="anderson")
+    d1, d2, d3 = -2 * b * b * u_t + 6 * mass * b * b * u_t**2, -2 * b * b + 12 * mass * b * b * u_t, 12 * mass * b * b
+    total = mp.mpf(0)
+    for r in (r_a, r_b):
+        top = mp.sqrt(u_t - 1 / mp.mpf(r))
+        if top > 0:  # (nodes graded towards t = 0, where a nearly critical ray's integrand peaks)
+            nodes = [0] + [top * mp.mpf(10) ** -k for k in range(8, 0, -1)] + [top]
+            total += mp.quad(lambda t: 2 * b / mp.sqrt(-d1 + d2 / 2 * t * t - d3 / 6 * t**4), nodes)
+    return float(total)
+
+
+@pytest.mark.parametrize("mass", [1.0, 2.5])
+def test_the_sweep_in_to_the_periapsis_and_out_is_the_quadratures(mass):
+    """Schwarzschild's sweep of a ray that leaves A inward, turns at its periapsis u_t and reaches B is one
+    Carlson R_F (round the branch point; past the complete integral, twice that minus the R_F): equal to the
+    quadratures from u_A and from u_B up to u_t, for rays far from the photon sphere and to 1e-9 of its impact
+    parameter, and for A and B on one sphere."""
+    rng = np.random.default_rng(3)
+    cases = [(r_a, r_b, float(rng.uniform(0.55 * math.pi, 0.999 * math.pi)), 1.0)
+             for r_a, r_b in rng.uniform(3.3, 40.0, (40, 2)) * mass]
+    cases += [(4.0 * mass, 4.0 * mass, 1.9, 1.0), (4.0 * mass, 30.0 * mass, 1.9, 1.0)]
+    b_crit = 3.0 * math.sqrt(3.0) * mass
+    for r_a, r_b in ((3.5 * mass, 12.0 * mass), (5.0 * mass, 5.0 * mass)):  # nearly critical: long sweeps
+        for gap in (1e-3, 1e-6, 1e-9):
+            b = b_crit * (1.0 + gap)
+            cases.append((r_a, r_b, math.pi - math.asin(b / r_a * math.sqrt(1.0 - 2.0 * mass / r_a)), gap))
+    checked = 0
+    for r_a, r_b, psi, gap in cases:
+        r_a, r_b = min(r_a, r_b), max(r_a, r_b)  # (the forward evaluation's case: B outside A)
+        ray = testing.lens_ray_at_psi("schwarzschild", [mass], r_a, r_b, True, psi)
+        if ray is None:  # (b below critical: falls in)
+            continue
+        checked += 1
+        # Within gap of critical the periapsis is nearly a double root of P: its rounding moves u3 - u2 by
+        # ~1e-16 / gap relative, and the sweep diverges as its logarithm.
+        ref = _sweep_round_periapsis(mass, r_a, r_b, ray[4])
+        assert ray[1] == pytest.approx(ref, rel=max(2e-13, 3e-16 / gap)), (r_a, r_b, psi)
+    assert checked > 30
+
+
 @pytest.mark.parametrize("entry", SPHERICAL, ids=lambda e: e["name"])
 def test_a_root_taken_one_newton_step_past_the_last_evaluation_is_the_ray_there(entry):
     """The root skips the evaluation that would only confirm a converged Newton step and moves the last ray

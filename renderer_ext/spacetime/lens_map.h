@@ -534,9 +534,10 @@ class LensMap {
     return true;
   }
 
-  // Schwarzschild's cubic: Phi from A to B (after_turn: in to the turning point u2 and out again) by
-  // Carlson's R_F of the roots u1 < 0 < u2 < u3 (u3 + u1 = 1/2M - u2, u3 u1 = -1 / (2M b^2 u2)), and
-  // sqrt(P(uB)). The factors (u - u1), (u2 - u), (u3 - u) are positive between the radii.
+  // Schwarzschild's cubic: Phi from A to B (after_turn: in to the turning point u2 and out again) by one
+  // Carlson R_F of the roots u1 < 0 < u2 < u3 (u3 + u1 = 1/2M - u2, u3 u1 = -1 / (2M b^2 u2)), and
+  // sqrt(P(uB)). The factors (u - u1), (u2 - u), (u3 - u) are positive between the radii. (The sweep round
+  // the turning point as two R_F's, one from each radius, was 4.5 % of fig07's time more.)
   bool cubic_phi(D1 b, D1 u2, bool after_turn, D1& phi, double& root_p_b) const {
     const double M = cubic_m_;
     const D1 p = 0.5 / M - u2, c = 1.0 / (2.0 * M * b * b * u2);
@@ -563,7 +564,22 @@ class LensMap {
     };
     const D1 uA(uA_), uB(uB_);
     if (after_turn) {
-      phi = integral(u2, uA) + integral(u2, uB);
+      // In to the turning point u2 and out again: Carlson's integral from y = uB to x = uA along the path
+      // round the branch point u2, where sqrt(u2 - u) changes sign, is one R_F of U12^2, U12^2 + (u3 - u2),
+      // U12^2 + (u3 - u1) with U12 = (Y1 Y2 X3 - X1 X2 Y3) / (x - y), written without cancellation as
+      // ((u3 - u2)(x + y - u1 - u2) - (u2 - x)(u2 - y)) / (X1 X2 Y3 + Y1 Y2 X3). Past the complete integral
+      // C = int_u1^u2 (U12 crossing zero: rays that sweep far round) the sweep is 2 C minus that R_F's.
+      D1 X1, X2, X3, Y1, Y2, Y3;
+      if (!factor_sqrt(uA, X1, X2, X3) || !factor_sqrt(uB, Y1, Y2, Y3)) return false;
+      const D1 den = X1 * X2 * Y3 + Y1 * Y2 * X3;
+      if (!(den.v > 0.0)) {
+        phi = D1(0.0);  // both radii at the turning point
+      } else {
+        const D1 q = (u3 - u2) * (uA + uB - u1 - u2) - (u2 - uA) * (u2 - uB);
+        const D1 U = q / den, s = U * U;
+        phi = scale * carlson_rf(s, s + (u3 - u2), s + (u3 - u1));
+        if (q.v < 0.0) phi = 2.0 * scale * carlson_rf_complete(u3 - u2, u3 - u1) - phi;
+      }
     } else {
       phi = uA_ >= uB_ ? integral(uA, uB) : integral(uB, uA);
     }
