@@ -218,8 +218,15 @@ class OrbitSegments {
       const double kappa = orb.curvature_bound(std::max(a.u, b.u), a.du > 0.0 && b.du < 0.0);
       const double bend = 0.5 * kappa * S * S;
       int keep[kMaxCandidates];
-      int nk = 0, unresolved = 0, best = -1;
-      double best_phi = INFINITY;
+      int nk = 0, unresolved = 0;
+      // The planes crossed once, by the azimuth where the chord crosses them: found on the orbit only once
+      // nothing else is left unresolved (else the piece is halved and they are tested again in the halves).
+      struct Crossing {
+        int p;
+        double fa, fb, start, spread;  // the chord's crossing's azimuth, and how far the orbit's can be from it
+      };
+      Crossing cross[kMaxCandidates];
+      int ncross = 0;
       for (int k = 0; k < nl; ++k) {
         const int p = live[k];
         if (s.sc_.prims[p].sheet != sheet) continue;
@@ -256,25 +263,41 @@ class OrbitSegments {
           // The root starts at the azimuth of the chord's crossing: the arc is within h of the chord there (a
           // start interpolated in phi is farther off and costs ~2 more evaluations; the crossing of the cubic
           // Bezier curve of the ends and their tangents saves 0.3 of fig07's 2.3 evaluations per crossing but
-          // costs more than they do).
-          const double cx = dot(pc, e1), cy = dot(pc, e2);
+          // costs more than they do). The orbit's crossing, within `reach` of pc, is within asin(reach / |pc|)
+          // <= (pi / 2) reach / |pc| of its azimuth.
+          const double cx = dot(pc, e1), cy = dot(pc, e2), rc = std::sqrt(cx * cx + cy * cy);
           const double start = a.phi + std::atan2(a.px * cy - a.py * cx, a.px * cx + a.py * cy);
-          V3 x;
-          const double th = plane_crossing(p, *n, a.phi, fa, b.phi, fb, start, 1e-12 * (1.0 + length(a.x) + c), x);
-          const double eps = 1e-6 * (1.0 + length(x));
-          const V3 foot = x - *n * s.sc_.implicit_at(p, x);
-          double t;
-          if (th < best_phi && s.sc_.intersect_prim(p, foot + *n * eps, *n * (-2.0 * eps), 0.0, 1.0, t) &&
-              !skipped(p, x)) {
-            best_phi = th;
-            best = p;
+          const double spread = reach < rc ? 0.5 * M_PI * reach / rc : INFINITY;
+          int at = ncross++;
+          while (at > 0 && cross[at - 1].start > start) {
+            cross[at] = cross[at - 1];
+            --at;
           }
+          cross[at] = {p, fa, fb, start, spread};
           continue;
         }
         keep[nk++] = p;
         ++unresolved;
       }
       if (unresolved == 0) {
+        // Nearest first: a plane whose crossing cannot come before the hit found is not solved for.
+        int best = -1;
+        double best_phi = INFINITY;
+        for (int k = 0; k < ncross; ++k) {
+          const Crossing& q = cross[k];
+          if (q.start - q.spread > best_phi) continue;
+          const V3 n = *s.sc_.plane_normal(q.p);
+          V3 x;
+          const double th = plane_crossing(q.p, n, a.phi, q.fa, b.phi, q.fb, q.start, 1e-12 * (1.0 + length(a.x) + c), x);
+          const double eps = 1e-6 * (1.0 + length(x));
+          const V3 foot = x - n * s.sc_.implicit_at(q.p, x);
+          double t;
+          if (th < best_phi && s.sc_.intersect_prim(q.p, foot + n * eps, n * (-2.0 * eps), 0.0, 1.0, t) &&
+              !skipped(q.p, x)) {
+            best_phi = th;
+            best = q.p;
+          }
+        }
         if (best < 0) return 0;
         prim = best;
         phi_hit = best_phi;
