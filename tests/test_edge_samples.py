@@ -84,6 +84,20 @@ def test_the_edges_of_an_emitter_far_brighter_than_the_faintest_get_eight_times_
     assert dim.stats["bright_edge_pixels"] == 0 < dim.stats["edge_pixels"]
 
 
+def test_the_sample_multiples_are_the_renderers_one_rule():
+    """resume.sample_multiples is render_types.h's rule through the binding: an edge pixel gets the larger of
+    edge_samples and detail_samples, a bright edge pixel 8 x that only where edge_samples is on; and a render's
+    pixels hold exactly those multiples of spp."""
+    from warpviz.render.resume import sample_multiples
+
+    assert sample_multiples(2, 1) == (1, 2, 1, 16)
+    assert sample_multiples(1, 3) == (1, 3, 3, 3)
+    assert sample_multiples(4, 6) == (1, 6, 6, 48)
+    spp = 2
+    img = wv.render(_with_a_sun(CURVED, 1200.0), spp=spp, seed=5, edge_samples=3, threads=2)
+    assert set(np.unique(img.aovs["samples"]) // spp) == {1, sample_multiples(3, 1)[1], sample_multiples(3, 1)[3]}
+
+
 def test_edge_pixels_do_not_depend_on_the_window_or_the_threads():
     whole = wv.render(CURVED, spp=2, seed=1, threads=1)
     tiles = np.zeros_like(whole.rgb)

@@ -551,6 +551,14 @@ NB_MODULE(_core, m) {
   m.doc() = "warpviz native core: null geodesics of the spacetimes registered in renderer_ext/metrics/";
   // A bright edge pixel's multiple of edge_samples (integrators/render_types.h), for the sample index's bound.
   m.attr("BRIGHT_EDGE_FACTOR") = wv::kBrightEdgeFactor;
+  m.def(
+      "sample_multiples",
+      [](int edge_samples, int detail_samples) {
+        const wv::SampleMultiples k = wv::sample_multiples(edge_samples, detail_samples);
+        return nb::make_tuple(k.plain, k.edge, k.detail, k.bright_edge);
+      },
+      "edge_samples"_a, "detail_samples"_a,
+      "The multiples of spp a render's pixels get (integrators/render_types.h): plain, edge, detail, bright edge.");
   m.def("metrics", &metrics, "Registered metrics and their facts (engine/registry.h).");
   m.def("load_metric_plugin", &wv::load_metric_plugin, "path"_a,
         "Loads a metric plugin once and enters its metrics and steppers into the registry (engine/plugin.h); "

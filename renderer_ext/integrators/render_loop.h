@@ -195,7 +195,8 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
 
   const size_t npix = size_t(W) * H;
   const int64_t B = o.sample_begin, B1 = B + o.spp;
-  const int64_t D = std::max(1, o.detail_samples), E = std::max<int64_t>(std::max(1, o.edge_samples), D);
+  const SampleMultiples mult = sample_multiples(o.edge_samples, o.detail_samples);
+  const int64_t D = mult.detail, E = mult.edge;
   std::atomic<int64_t> done{0};
   int64_t total = int64_t(npix) * o.spp;
   // A stop is for good: poll can be asked for a stop after a pass's last chunk has started, when
@@ -234,7 +235,7 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
     int64_t k;
     std::vector<size_t> pixels;
   };
-  Group groups[3] = {{o.edge_samples > 1 ? E * kBrightEdgeFactor : E, {}}, {E, {}}, {D, {}}};
+  Group groups[3] = {{mult.bright_edge, {}}, {E, {}}, {D, {}}};
   for (const int64_t c : classes) {
     const int64_t k = c % kPixelClasses;
     groups[k == kBrightEdgePixel ? 0 : k == kEdgePixel ? 1 : 2].pixels.push_back(size_t(c / kPixelClasses));

@@ -2,6 +2,7 @@
 // layer, which owns their defaults), the film with its statistics, and the recorded path segments.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -103,6 +104,20 @@ enum PixelClass : int { kPlainPixel = 0, kDetailPixel = 1, kEdgePixel = 2, kBrig
 constexpr int64_t kPixelClasses = 4;  // pixel_classes entries: kPixelClasses * index + class
 constexpr double kBrightEdgeRatio = 64.0;
 constexpr int64_t kBrightEdgeFactor = 8;
+
+// The multiples of spp that a render's pixels get, by class: the one definition (render_loop.h, and Python's
+// resume through the binding). An edge pixel gets the larger of edge_samples and detail_samples, a bright edge
+// pixel kBrightEdgeFactor x that where edge_samples is on (> 1), else as an edge pixel.
+struct SampleMultiples {
+  int64_t plain = 1, detail = 1, edge = 1, bright_edge = 1;
+};
+inline SampleMultiples sample_multiples(int edge_samples, int detail_samples) {
+  SampleMultiples m;
+  m.detail = std::max(1, detail_samples);
+  m.edge = std::max<int64_t>(std::max(1, edge_samples), m.detail);
+  m.bright_edge = edge_samples > 1 ? m.edge * kBrightEdgeFactor : m.edge;
+  return m;
+}
 
 // What the camera ray through one point of the probe lattice sees (PathTracer::probe): `light`, a signature of
 // its specular branches that end on an emitter (0: none; kProbeMixed where some do and some do not); `shape`,
