@@ -349,9 +349,10 @@ class OrbitSegments {
           const double df2 = dot(n, ddx);
           double step = -f / df;
           step = -(f + 0.5 * df2 * step * step) / df;
-          step = -(f + 0.5 * df2 * step * step) / df;
+          step = -(f + 0.5 * df2 * step * step) / df;  // (two fixed-point steps to the parabola's root)
           const double next = t + step;
-          if (next > lo && next < hi && std::fabs(dot(n, dddx)) * std::fabs(step * step * step) <= ftol) {
+          const double miss = std::fabs(f + step * (df + 0.5 * df2 * step));  // the parabola's own, at the step
+          if (next > lo && next < hi && std::fabs(dot(n, dddx)) * std::fabs(step * step * step) + miss <= ftol) {
             at_ = x + dx * step + ddx * (0.5 * step * step);
             return next;
           }
