@@ -122,18 +122,19 @@ def _sweep_round_periapsis(mass, r_a, r_b, b):
     mpmath's quadrature in t, u = u_t - t^2, where P(u_t - t^2) / t^2 is a quadratic in t^2 (no endpoint root)."""
     import mpmath as mp  # (sympy's)
 
-    mp.mp.dps = 30
-    b = mp.mpf(b)
-    u_t = mp.findroot(lambda u: 1 - b * b * u * u * (1 - 2 * mass * u), (1 / b, mp.mpf(1) / (3 * mass)),
-                      solver="anderson")
-    d1, d2, d3 = -2 * b * b * u_t + 6 * mass * b * b * u_t**2, -2 * b * b + 12 * mass * b * b * u_t, 12 * mass * b * b
-    total = mp.mpf(0)
-    for r in (r_a, r_b):
-        top = mp.sqrt(u_t - 1 / mp.mpf(r))
-        if top > 0:  # (nodes graded towards t = 0, where a nearly critical ray's integrand peaks)
-            nodes = [0] + [top * mp.mpf(10) ** -k for k in range(8, 0, -1)] + [top]
-            total += mp.quad(lambda t: 2 * b / mp.sqrt(-d1 + d2 / 2 * t * t - d3 / 6 * t**4), nodes)
-    return float(total)
+    with mp.workdps(30):  # (mpmath's precision is global: set for this reference only)
+        b = mp.mpf(b)
+        u_t = mp.findroot(lambda u: 1 - b * b * u * u * (1 - 2 * mass * u), (1 / b, mp.mpf(1) / (3 * mass)),
+                          solver="anderson")
+        d1, d2 = -2 * b * b * u_t + 6 * mass * b * b * u_t**2, -2 * b * b + 12 * mass * b * b * u_t
+        d3 = 12 * mass * b * b
+        total = mp.mpf(0)
+        for r in (r_a, r_b):
+            top = mp.sqrt(u_t - 1 / mp.mpf(r))
+            if top > 0:  # (nodes graded towards t = 0, where a nearly critical ray's integrand peaks)
+                nodes = [0] + [top * mp.mpf(10) ** -k for k in range(8, 0, -1)] + [top]
+                total += mp.quad(lambda t: 2 * b / mp.sqrt(-d1 + d2 / 2 * t * t - d3 / 6 * t**4), nodes)
+        return float(total)
 
 
 @pytest.mark.parametrize("mass", [1.0, 2.5])

@@ -40,28 +40,29 @@ T carlson_rf(T x, T y, T z) {
   return T(NAN);
 }
 
-// R_F(0, y, z) = pi / (2 AGM(sqrt y, sqrt z)) (y, z > 0): the complete integral, by the arithmetic-geometric
-// mean, which converges quadratically however small y / z is. T is double or a Dual.
+// The arithmetic-geometric mean of a and g, iterated in place until |a - g| <= tol a (at most 40 means; it
+// converges quadratically however small g / a is). T is double or a Dual.
 template <class T>
-T carlson_rf_complete(T y, T z) {
-  T a = sqrt(y), g = sqrt(z);
-  for (int it = 0; it < 40; ++it) {
-    if (!(std::fabs(value(a) - value(g)) > 1e-15 * value(a))) break;
+void agm(T& a, T& g, double tol) {
+  for (int it = 0; it < 40 && std::fabs(value(a) - value(g)) > tol * value(a); ++it) {
     const T an = 0.5 * (a + g);
     g = sqrt(a * g);
     a = an;
   }
+}
+
+// R_F(0, y, z) = pi / (2 AGM(sqrt y, sqrt z)) (y, z > 0): the complete integral. T is double or a Dual.
+template <class T>
+T carlson_rf_complete(T y, T z) {
+  T a = sqrt(y), g = sqrt(z);
+  agm(a, g, 1e-15);
   return M_PI / (a + g);
 }
 
 // K(m) = F(pi/2 | m) by the arithmetic-geometric mean: pi / (2 AGM(1, sqrt(1 - m))).
 inline double elliptic_k(double m) {
   double a = 1.0, g = std::sqrt(1.0 - m);
-  for (int it = 0; it < 40 && std::fabs(a - g) > 1e-16 * a; ++it) {
-    const double an = 0.5 * (a + g);
-    g = std::sqrt(a * g);
-    a = an;
-  }
+  agm(a, g, 1e-16);
   return M_PI / (2.0 * a);
 }
 

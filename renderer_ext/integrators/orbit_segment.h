@@ -223,6 +223,7 @@ class OrbitSegments {
       // nothing else is left unresolved (else the piece is halved and they are tested again in the halves).
       struct Crossing {
         int p;
+        const V3* n;
         double fa, fb, start, spread;  // the chord's crossing's azimuth, and how far the orbit's can be from it
       };
       Crossing cross[kMaxCandidates];
@@ -273,7 +274,7 @@ class OrbitSegments {
             cross[at] = cross[at - 1];
             --at;
           }
-          cross[at] = {p, fa, fb, start, spread};
+          cross[at] = {p, n, fa, fb, start, spread};
           continue;
         }
         keep[nk++] = p;
@@ -286,7 +287,7 @@ class OrbitSegments {
         for (int k = 0; k < ncross; ++k) {
           const Crossing& q = cross[k];
           if (q.start - q.spread > best_phi) continue;
-          const V3 n = *s.sc_.plane_normal(q.p);
+          const V3 n = *q.n;
           V3 x;
           const double th = plane_crossing(q.p, n, a.phi, q.fa, b.phi, q.fb, q.start, 1e-12 * (1.0 + length(a.x) + c), x);
           const double eps = 1e-6 * (1.0 + length(x));
