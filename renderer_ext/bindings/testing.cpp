@@ -380,12 +380,29 @@ void bind_testing(nb::module_& m) {
         out["directions"] = to_numpy(std::move(dirs), {n, 3});
         out["weights"] = to_numpy(std::move(weights), {n});
         out["jacobians"] = to_numpy(std::move(jac), {n});
+        // The light strategy's draw: order 0's weight exact, the later ones' estimated, each image solved on demand.
+        wv::LensImagePick pick(lens, v, l, orders);
+        std::vector<double> pw, pdirs, pjac;
+        for (int k = 0; k < pick.n; ++k) {
+          pw.push_back(pick.weight[k]);
+          wv::V3 w{NAN, NAN, NAN};
+          double j = NAN;
+          if (!pick.image(k, w, j)) w = {NAN, NAN, NAN}, j = NAN;
+          pdirs.insert(pdirs.end(), {w.x, w.y, w.z});
+          pjac.push_back(j);
+        }
+        const size_t np = size_t(pick.n);
+        out["pick_weights"] = to_numpy(std::move(pw), {np});
+        out["pick_directions"] = to_numpy(std::move(pdirs), {np, 3});
+        out["pick_jacobians"] = to_numpy(std::move(pjac), {np});
         return out;
       },
       "metric"_a, "params"_a, "pos_a"_a, "sheet_a"_a, "normal_a"_a, "pos_b"_a, "normal_b"_a, "sheet_b"_a, "area"_a,
       "two_sided"_a, "orders"_a,
       "Test hook: the lensed images of light point B seen from A (directions (n, 3) in the static frame "
-      "aligned with the axes, weights cos theta |dOmega/dA| (n,), area Jacobians |dA/dOmega| (n,)).");
+      "aligned with the axes, weights cos theta |dOmega/dA| (n,), area Jacobians |dA/dOmega| (n,)), and the light "
+      "strategy's draw among them (LensImagePick: pick_weights (m,), order 0's exact and the later orders' "
+      "estimated; pick_directions (m, 3) and pick_jacobians (m,) of each image solved, NaN where it brings nothing).");
   m.def(
       "light_crossing",
       [](double mass, F64In pos_a, F64In w_local, F64In corner, F64In edge_u, F64In edge_v, int orders) -> nb::object {

@@ -2,14 +2,16 @@
 // Ellis): at a diffuse vertex A a point B is drawn on a light by area and one of the light rays from A to
 // B is chosen among its images of order 0 .. N-1 (spacetime/lens_map.h: order 0 the direct image, 1 the
 // one round the far side, 2 the first winding, ...), each with probability proportional to what it is
-// worth to a diffuse surface, w_m = cos(theta_m) |dOmega_A / dA_B|_m (one-sided lights: 0 from behind).
-// The solid-angle pdf of the chosen direction is then
+// worth to a diffuse surface, w_m = cos(theta_m) |dOmega_A / dA_B|_m (one-sided lights: 0 from behind;
+// order 0's exact, the later orders' estimated without solving them, LensImagePick). The solid-angle pdf of
+// the chosen direction is then
 //
-//   p(omega_m) = P(light) (1 / area) (w_m / W) |dA_B / dOmega_A|_m = P(light) cos(theta_m) / (area W),
+//   p(omega_m) = P(light) (1 / area) (w_m / W) |dA_B / dOmega_A|_m   (= P(light) cos(theta_m) / (area W)
+//                                                                      where w_m is exact),
 //
-// W = sum of the w. It depends on B alone, so a BSDF-sampled ray that first hits a light at B' has the
-// light strategy's pdf as soon as the images of B' are known: p is that formula if the ray is one of B''s
-// images of order < N, else 0 (the light strategy never draws it). A light sample counts only if its
+// W = sum of the w, with the image's own exact Jacobian. It depends on B alone, so a BSDF-sampled ray that
+// first hits a light at B' has the light strategy's pdf as soon as B''s weights and the image it is are known:
+// p is that formula if the ray is one of B''s images of order < N, else 0 (the light strategy never draws it). A light sample counts only if its
 // geodesic's first hit is the point it aimed at (light_sample_hits), so both strategies use the pdf of the
 // first light crossing and multiple importance sampling stays unbiased: the lens map only has to be right
 // for efficiency, and it is exact to the integrator's tolerance. In Kerr the same draw, in the Schwarzschild
@@ -93,42 +95,81 @@ struct LensImageRays {
   LensImageRay ray[LensImages::kMax];
 };
 
-inline LensImageRays lens_image_rays(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders) {
-  LensImageRays out;
-  const double RA = length(v.pos), RB = length(b.pos);
-  if (!(RA > 0.0 && RB > 0.0)) return out;
-  out.RB = RB;
-  const V3 xa = v.pos / RA, xb = b.pos / RB;
-  out.xa = xa;
-  out.xb = xb;
-  const V3 side = xb - xa * dot(xb, xa);  // towards B, perpendicular to A's radial direction
-  const double sin_g = length(side);
-  if (!(sin_g > 1e-9)) return out;
-  const double gamma = std::atan2(sin_g, dot(xa, xb));
-  const V3 toward = side / sin_g;
-  const LensMap map(lens, 1.0 / RA, 1.0 / RB, b.sheet == v.sheet);
-  if (!map.valid()) return out;
-  // Orders in turn, each started from the last one's root moved on by the difference in Phi: far along a
-  // branch (towards the photon sphere or the throat) Phi grows about as fast as z, which saves 1-4 of the
-  // 4-8 evaluations a plain Newton start from the last root takes (Schwarzschild, Ellis).
-  double z = map.direct_guess(gamma), last_target = gamma;
-  for (int m = 0; m < std::min(orders, LensImages::kMax); ++m) {
-    const bool long_way = m % 2 == 1;
-    const double target = long_way ? kTwoPi * double((m + 1) / 2) - gamma : kTwoPi * double(m / 2) + gamma;
-    if (m > 0) z += target - last_target;
-    last_target = target;
-    LensImageRay& ir = out.ray[out.n];
-    ir.r = map.solve(target, z, &z);
-    if (!ir.r.ok) break;
-    ir.t_user = long_way ? -toward : toward;
+// What every image of light point b seen from vertex v shares: the plane of A, B and the centre (A's and B's
+// unit radial directions, the angle gamma = AOB between them and the tangent at A towards B) and the lens map
+// between their radii. ok() false where there is no such plane or map.
+class LensPair {
+ public:
+  LensPair(const SphericalLens& lens, const LensVertex& v, const LensLight& b)
+      : RA_(length(v.pos)), RB_(length(b.pos)), map_(lens, 1.0 / RA_, 1.0 / RB_, b.sheet == v.sheet) {
+    if (!(RA_ > 0.0 && RB_ > 0.0)) return;
+    xa_ = v.pos / RA_;
+    xb_ = b.pos / RB_;
+    const V3 side = xb_ - xa_ * dot(xb_, xa_);  // towards B, perpendicular to A's radial direction
+    const double sin_g = length(side);
+    if (!(sin_g > 1e-9)) return;
+    gamma_ = std::atan2(sin_g, dot(xa_, xb_));
+    toward_ = side / sin_g;
+    ok_ = map_.valid();
+  }
+
+  bool ok() const { return ok_; }
+  const LensMap& map() const { return map_; }
+  double gamma() const { return gamma_; }
+
+  // The azimuth the image of order m sweeps: gamma + 2 pi (m / 2) the short way (m even), 2 pi ((m + 1) / 2) -
+  // gamma the long way (m odd).
+  double target(int m) const {
+    return m % 2 == 1 ? kTwoPi * double((m + 1) / 2) - gamma_ : kTwoPi * double(m / 2) + gamma_;
+  }
+
+  // The images' shared frame in rays (B's radius, A's and B's radial directions).
+  void frame(LensImageRays& rays) const {
+    rays.RB = RB_;
+    rays.xa = xa_;
+    rays.xb = xb_;
+  }
+
+  // Image ray ir of order m from the lens map's ray r: its direction at v, its sense of rotation, and at B
+  // its in-plane direction and arrival direction.
+  void fill(const LensVertex& v, int m, const LensRay& r, LensImageRay& ir) const {
+    ir.r = r;
+    ir.t_user = m % 2 == 1 ? -toward_ : toward_;
     V3 t_local = v.to_local(ir.t_user);
     ir.t_local = normalize(t_local - v.radial_local * dot(t_local, v.radial_local));
     double spsi, cpsi, sp, cp;
-    sin_cos(ir.r.psi, spsi, cpsi);
-    sin_cos(ir.r.phi, sp, cp);
+    sin_cos(r.psi, spsi, cpsi);
+    sin_cos(r.phi, sp, cp);
     ir.w = v.radial_local * cpsi + ir.t_local * spsi;
-    ir.phi_hat = xa * (-sp) + ir.t_user * cp;
-    ir.t_arr = normalize(xb * ir.r.dr_dphi + ir.phi_hat * RB);
+    ir.phi_hat = xa_ * (-sp) + ir.t_user * cp;
+    ir.t_arr = normalize(xb_ * r.dr_dphi + ir.phi_hat * RB_);
+  }
+
+ private:
+  double RA_, RB_;
+  LensMap map_;
+  bool ok_ = false;
+  V3 xa_, xb_, toward_;
+  double gamma_ = 0.0;
+};
+
+inline LensImageRays lens_image_rays(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders) {
+  LensImageRays out;
+  const LensPair pair(lens, v, b);
+  if (!pair.ok()) return out;
+  pair.frame(out);
+  const LensMap& map = pair.map();
+  // Orders in turn, each started from the last one's root moved on by the difference in Phi: far along a
+  // branch (towards the photon sphere or the throat) Phi grows about as fast as z, which saves 1-4 of the
+  // 4-8 evaluations a plain Newton start from the last root takes (Schwarzschild, Ellis).
+  double z = map.direct_guess(pair.gamma()), last_target = pair.gamma();
+  for (int m = 0; m < std::min(orders, LensImages::kMax); ++m) {
+    const double target = pair.target(m);
+    if (m > 0) z += target - last_target;
+    last_target = target;
+    const LensRay r = map.solve(target, z, &z);
+    if (!r.ok) break;
+    pair.fill(v, m, r, out.ray[out.n]);
     ++out.n;
   }
   return out;
@@ -142,21 +183,28 @@ inline double lens_area_jacobian(const LensImageRays& rays, const LensImageRay& 
          (std::sin(ir.r.psi) * cos_n);
 }
 
-// The images of order < orders of light point b seen from vertex v, with their weights.
+// What image ray ir of b is worth to a diffuse surface at v: cos(theta) |dOmega_A / dA_B| (0 from behind the
+// surface or a one-sided light).
+inline double lens_image_weight(const LensImageRays& rays, const LensImageRay& ir, const LensVertex& v,
+                                const LensLight& b) {
+  const double cos_n = dot(ir.t_arr, b.normal);
+  const double cos_a = dot(ir.w, v.normal_local);
+  if (cos_a > 0.0 && (b.two_sided || cos_n < 0.0) && std::isfinite(ir.r.dphi_dpsi)) {
+    const double jac = lens_area_jacobian(rays, ir, std::fabs(cos_n));
+    if (jac > 0.0 && std::isfinite(jac)) return cos_a / jac;
+  }
+  return 0.0;
+}
+
+// The images of order < orders of light point b seen from v, with their weights.
 inline LensImages lens_images(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders) {
   LensImages im;
   im.area = b.area;
   const LensImageRays rays = lens_image_rays(lens, v, b, orders);
   for (int k = 0; k < rays.n; ++k) {
     const LensImageRay& ir = rays.ray[k];
-    // The area Jacobian from the sweep's derivative and the arrival direction.
-    const double cos_n = dot(ir.t_arr, b.normal);
-    double weight = 0.0;
+    const double weight = lens_image_weight(rays, ir, v, b);
     const double cos_a = dot(ir.w, v.normal_local);
-    if (cos_a > 0.0 && (b.two_sided || cos_n < 0.0) && std::isfinite(ir.r.dphi_dpsi)) {
-      const double jac = lens_area_jacobian(rays, ir, std::fabs(cos_n));
-      if (jac > 0.0 && std::isfinite(jac)) weight = cos_a / jac;
-    }
     im.w[im.n] = ir.w;
     im.jacobian[im.n] = weight > 0.0 ? cos_a / weight : 0.0;
     im.weight[im.n] = weight;
@@ -165,6 +213,73 @@ inline LensImages lens_images(const SphericalLens& lens, const LensVertex& v, co
   }
   return im;
 }
+
+// The light strategy's draw among the images of light point b seen from v (LensConnection). The direct image
+// (order 0) is solved; each later order's weight is estimated from one evaluation of the lens map at its Newton
+// start (order 0's root, or the last order's start, moved on by the difference in Phi: one Newton step or two
+// from its root), and that order is solved only when it is drawn, or when a BSDF direction is matched against
+// it. The probabilities weight / total are a function of v and B alone, so both strategies agree on them, and
+// the drawn image's Jacobian is its own exact one: only which image to draw is estimated, never a density.
+class LensImagePick {
+ public:
+  LensImagePick(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders)
+      : pair_(lens, v, b), v_(v), b_(b) {
+    if (!pair_.ok()) return;
+    pair_.frame(rays_);
+    const LensMap& map = pair_.map();
+    double z = map.direct_guess(pair_.gamma()), last_target = pair_.gamma();
+    for (int m = 0; m < std::min(orders, LensImages::kMax); ++m) {
+      const double target = pair_.target(m);
+      if (m > 0) z += target - last_target;
+      last_target = target;
+      LensImageRay& ir = rays_.ray[m];
+      LensRay est;
+      if (m > 0) start_[m] = map.start_at(z);
+      if (m > 0 && map.newton_estimate(start_[m], target, est)) {
+        pair_.fill(v, m, est, ir);  // standing in for the image's until solved
+      } else {  // order 0, or a start too far from the root to estimate from: solved now (from that start)
+        const LensRay r = map.solve(target, z, &z, m > 0 ? &start_[m] : nullptr);
+        if (!r.ok) break;
+        pair_.fill(v, m, r, ir);
+        solved_[m] = true;
+      }
+      weight[m] = lens_image_weight(rays_, ir, v, b);
+      total += weight[m];
+      n = m + 1;
+    }
+  }
+
+  int n = 0;                                  // orders with a weight
+  double weight[LensImages::kMax] = {};       // order 0's exact, the later ones' estimated
+  double total = 0.0;
+
+  // The image of order k solved: its direction at v and its exact area Jacobian |dA_B / dOmega_A|; false where
+  // the map has no such root or the image brings nothing to v (from behind the surface or the light).
+  bool image(int k, V3& w, double& jac) {
+    LensImageRay& ir = rays_.ray[k];
+    if (!solved_[k]) {
+      const LensRay r = pair_.map().solve(pair_.target(k), -1.0, nullptr, &start_[k]);
+      solved_[k] = true;
+      found_[k] = r.ok;
+      if (r.ok) pair_.fill(v_, k, r, ir);
+    }
+    if (!found_[k]) return false;
+    const double wk = lens_image_weight(rays_, ir, v_, b_);
+    if (!(wk > 0.0)) return false;
+    w = ir.w;
+    jac = dot(ir.w, v_.normal_local) / wk;
+    return jac > 0.0 && std::isfinite(jac);
+  }
+
+ private:
+  LensPair pair_;
+  LensVertex v_;
+  LensLight b_;
+  LensImageRays rays_;
+  LensStart start_[LensImages::kMax];
+  bool solved_[LensImages::kMax] = {};
+  bool found_[LensImages::kMax] = {true, true, true, true};
+};
 
 // An image of light point b seen from v with the lens map's local linearisation: its direction w (local),
 // an orthonormal tangent basis e1, e2 (local) and how a displacement of w along them moves the point the
@@ -193,19 +308,6 @@ inline int lens_image_frames(const SphericalLens& lens, const LensVertex& v, con
     f.d_e2 = onto_plane(normalize(cross(rays.xa, ir.t_user)) * (rays.RB * sp / spsi));
   }
   return n;
-}
-
-// Solid-angle pdf with which the light strategy at v, choosing this light with probability p_light, draws
-// local direction w whose geodesic first reaches the light at b (0 unless w is one of b's images).
-inline double lens_pdf(const SphericalLens& lens, const LensVertex& v, V3 w, const LensLight& b, int orders,
-                       double p_light) {
-  const LensImages im = lens_images(lens, v, b, orders);
-  if (!(im.total > 0.0)) return 0.0;
-  for (int i = 0; i < im.n; ++i) {
-    if (im.weight[i] > 0.0 && dot(im.w[i], w) > 1.0 - kLensMatchCos)
-      return p_light * dot(w, v.normal_local) / (im.area * im.total);
-  }
-  return 0.0;
 }
 
 template <class M>
@@ -250,20 +352,20 @@ class LensConnection {
     const int p = sc_.lights[li];
     LightPoint lp;
     if (!sample_light_point(sc_, p, v.pos, u1, u2, lp)) return false;
-    const LensImages im = lens_images(lens_, v, light(p, lp), orders_);
-    if (!(im.total > 0.0)) return false;
+    LensImagePick pick(lens_, v, light(p, lp), orders_);
+    if (!(pick.total > 0.0)) return false;
     double acc = 0.0;
-    int k = im.n - 1;
-    for (int i = 0; i < im.n; ++i) {
-      acc += im.weight[i];
-      if (u3 * im.total < acc) {
+    int k = pick.n - 1;
+    for (int i = 0; i < pick.n; ++i) {
+      acc += pick.weight[i];
+      if (u3 * pick.total < acc) {
         k = i;
         break;
       }
     }
-    if (!(im.weight[k] > 0.0)) return false;
-    w = im.w[k];
-    pdf = dot(w, v.normal_local) / (im.area * im.total * per);
+    double jac;
+    if (!(pick.weight[k] > 0.0) || !pick.image(k, w, jac)) return false;
+    pdf = pick.weight[k] / pick.total * jac / (lp.area * per);
     target = lp.pos;
     if (proposal_) {  // it counts only if its proxy orbit crosses the light first at B
       const LightCrossing x = crossing(v, w, li);
@@ -294,7 +396,15 @@ class LensConnection {
     LightPoint lp;
     if (!light_point_at(sc_, p, v.pos, x, lp)) return 0.0;
     const double p_light = sel ? sel[it - sc_.lights.begin()] : 1.0 / double(sc_.light_count());
-    return lens_pdf(lens_, v, w, light(p, lp), orders_, p_light);
+    LensImagePick pick(lens_, v, light(p, lp), orders_);
+    if (!(pick.total > 0.0)) return 0.0;
+    for (int k = 0; k < pick.n; ++k) {  // nearest orders first: a BSDF direction is mostly the direct image
+      V3 wk;
+      double jac;
+      if (pick.weight[k] > 0.0 && pick.image(k, wk, jac) && dot(wk, w) > 1.0 - kLensMatchCos)
+        return p_light * pick.weight[k] / pick.total * jac / lp.area;
+    }
+    return 0.0;
   }
 
  private:
