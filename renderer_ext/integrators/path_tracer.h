@@ -100,7 +100,15 @@ class PathTracer {
         emission_(m, sc), lens_(m, sc, o.lens_images, o.light_connection == kLensConnection),
         camera_lights_(sc, o, camera_, lens_, !g.train), guide_(g.tree),
         train_(g.train), seed_(g.train ? g.seed : o.seed), caustics_(c), point_frames_(point_light_frames(m, sc)),
-        pixel_angle_(2.0 * std::tan(sc.camera.fov * M_PI / 360.0) / std::max(1, sc.camera.height)) {}
+        pixel_angle_(2.0 * std::tan(sc.camera.fov * M_PI / 360.0) / std::max(1, sc.camera.height)) {
+    PathFrames<M> frames;
+    if constexpr (!M::kFlat) {
+      frames.e[0] = camera_.start();
+      frames.n = frames.next = 1;
+    }
+    camera_step_ = segments_.first_step(sc.camera.position, sc.camera.sheet,
+                                        camera_.direction_at(0.5 * sc.camera.width, 0.5 * sc.camera.height), frames);
+  }
 
   // One light path while it is traced: what it has gathered (L, its throughput beta), the BSDF strategy's
   // pending weight, the lens vertex whose pdf the next segment settles, and the bookkeeping around each
@@ -275,7 +283,7 @@ class PathTracer {
       Track* light_track = ps.open();
       SegmentEnd le;
       co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
-                                 le);
+                                 le, e.step);
       ps.close(le, e.sheet, bounce + 1, kLightSegment);
       if (lens_.light_sample_hits(le, sc_.lights[li], target))
         add_light(ps, e, li, ps.beta * f * emission_.emission(le) * (keep / (pl + pb)));
@@ -299,7 +307,7 @@ class PathTracer {
     Track* light_track = ps.open();
     SegmentEnd le;
     co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
-                               le);
+                               le, e.step);
     ps.close(le, e.sheet, bounce + 1, kLightSegment);
     add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
   }
@@ -557,11 +565,12 @@ class PathTracer {
     // photon light reached from the last diffuse vertex through specular vertices only (`specular`).
     bool gathered = false, specular = false;
     double path_length = 0.0;  // user-frame distance along the path (vertex to vertex): the gather's footprint
+    double first_step = camera_step_;  // where a segment's steps start: the camera's, then the last segment's last
 
     for (int bounce = 0; bounce < o_.max_depth; ++bounce) {
       Track* track = ps.open();
       SegmentEnd e;
-      co_await segments_.segment(x, sheet, d, skip, track, st, frames, sched, e);
+      co_await segments_.segment(x, sheet, d, skip, track, st, frames, sched, e, first_step);
       ps.close(e, sheet, bounce, bounce == 0 ? kCameraSegment : kBounceSegment);
       if (caustics_.pass && e.status == kHit) path_length += length(e.pos - x);
       if (bounce == 0) {
@@ -656,6 +665,7 @@ class PathTracer {
       }
       x = offset(e.pos, sp.normal, n, bs.wi);
       sheet = e.sheet;
+      first_step = e.step;
       d = bs.wi;
       skip = e.prim;
     }
@@ -870,6 +880,7 @@ class PathTracer {
   Caustics caustics_;       // photons for caustics, or none
   std::vector<PointLightFrame> point_frames_;  // the local frame at each point light
   double pixel_angle_;      // a pixel's height as an angle (radians, at the image's centre)
+  double camera_step_ = 0.0;  // the first step of the camera's central ray (SegmentTracer::first_step)
 };
 
 // Renders scene sc through metric M with stepper S (engine/register.h).

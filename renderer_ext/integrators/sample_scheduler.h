@@ -95,11 +95,13 @@ struct Geodesic {
   const TraceOptions& o;
   Track* track;
   Surf surf;
+  double first_step;  // GeodesicRay::begin's
   RayResult res;
   std::conditional_t<kLaned, LaneRay<M, Batch, Surf>, NoLane> lane;
 
-  Geodesic(const M& metric, Scheduler* s, const double y0[8], int sh, const TraceOptions& opt, Track* tr, Surf sf)
-      : m(metric), sched(s), sheet(sh), o(opt), track(tr), surf(std::move(sf)) {
+  Geodesic(const M& metric, Scheduler* s, const double y0[8], int sh, const TraceOptions& opt, Track* tr, Surf sf,
+           double first = 0.0)
+      : m(metric), sched(s), sheet(sh), o(opt), track(tr), surf(std::move(sf)), first_step(first) {
     for (int i = 0; i < 8; ++i) y[i] = y0[i];
   }
   Geodesic(const Geodesic&) = delete;
@@ -107,9 +109,9 @@ struct Geodesic {
 
   bool await_ready() {
     if constexpr (kLaned) {
-      if (sched) return !lane.start(m, y, sheet, o, res, track, &surf);
+      if (sched) return !lane.start(m, y, sheet, o, res, track, &surf, first_step);
     }
-    integrate_ray<M, S, Surf>(m, y, sheet, o, res, track, &surf);
+    integrate_ray<M, S, Surf>(m, y, sheet, o, res, track, &surf, first_step);
     return true;
   }
   void await_suspend(std::coroutine_handle<> h) {

@@ -34,6 +34,7 @@ struct SegmentEnd {
   V3 normal_local;      // hit: unit normal in the local frame
   LinearMap to_local;   // hit: user-frame displacement -> local frame
   long steps = 0;
+  double step = 0.0;    // integrated: the last accepted step, where the next segment from here starts its steps
   double drift = 0.0;
   double y[8];          // hit: chart state (backward momentum)
   ObserverFrame frame;  // hit: the static observer (or ZAMO) there
@@ -65,16 +66,37 @@ class SegmentTracer {
   const TraceOptions& options() const { return topt_; }
 
   // Traces the geodesic segment from user-frame point x on `sheet` along local direction d into e, as an
-  // awaitable: done at once in flat space, a coroutine waiting for its geodesic in curved space.
+  // awaitable: done at once in flat space, a coroutine waiting for its geodesic in curved space. An integrated
+  // segment that leaves where another ended attempts that one's last step (`from`'s SegmentEnd::step) first,
+  // instead of the largest step allowed, which the error control rejected ~1.2 times per segment (Kerr-Newman).
   auto segment(V3 x, int sheet, V3 d, int skip, Track* track, RenderStats& st, PathFrames<M>& frames,
-               Scheduler* sched, SegmentEnd& e) const {
+               Scheduler* sched, SegmentEnd& e, double first_step = 0.0) const {
     if constexpr (M::kFlat) {
       (void)frames;
       (void)sched;
       flat_segment(x, sheet, d, skip, track, st, e);
       return std::suspend_never{};
     } else {
-      return curved_segment(x, sheet, d, skip, track, st, frames, sched, e);
+      return curved_segment(x, sheet, d, skip, track, st, frames, sched, e, first_step);
+    }
+  }
+
+  // The first step the error control accepts on the integrated segment from x along local direction d (at most
+  // eight attempts; 0 in flat space or where none is accepted): where segments from x (the camera's) start
+  // their steps, instead of from the largest step allowed, which it rejects ~1.3 times per camera segment in
+  // the Kerr-Newman room.
+  double first_step(V3 x, int sheet, V3 d, PathFrames<M>& frames) const {
+    if constexpr (M::kFlat) {
+      (void)x, (void)sheet, (void)d, (void)frames;
+      return 0.0;
+    } else {
+      double y[8];
+      if (!geo_.backward_state(x, sheet, d, y, frames)) return 0.0;
+      TraceOptions t = topt_;
+      t.max_steps = 8;
+      RayResult res;
+      integrate_ray<M, S>(m_, y, sheet, t, res, nullptr);
+      return res.first_step;
     }
   }
 
@@ -100,7 +122,7 @@ class SegmentTracer {
   }
 
   Task<void> curved_segment(V3 x, int sheet, V3 d, int skip, Track* track, RenderStats& st, StartFrames& frames,
-                            Scheduler* sched, SegmentEnd& e) const {
+                            Scheduler* sched, SegmentEnd& e, double first_step) const {
     const double skip_dist = 1e-4 * (1.0 + length(x));
     ++st.segments;
     double y[8];
@@ -111,8 +133,9 @@ class SegmentTracer {
     }
     if (closed_form_ && !track && orbit_segment(y, sheet, skip, skip_dist, st, e)) co_return;
     const RayResult res = co_await Geodesic<M, S, SceneSurfaces<M>>(
-        m_, sched, y, sheet, topt_, track, SceneSurfaces<M>(m_, sc_, o_.chord_tol, skip, skip_dist));
+        m_, sched, y, sheet, topt_, track, SceneSurfaces<M>(m_, sc_, o_.chord_tol, skip, skip_dist), first_step);
     e.status = res.status;
+    e.step = res.last_step;
     e.prim = res.prim;
     e.pos = V3(res.pos);
     e.sheet = res.sheet;

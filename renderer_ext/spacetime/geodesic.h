@@ -69,6 +69,7 @@ struct RayResult {
   double drift_scaled[kMaxInvariants] = {0, 0, 0, 0, 0, 0};
   double y[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // final chart state (position and covariant momentum)
   int prim = -1;                           // surface hit (status kHit): the scene primitive
+  double first_step = 0.0, last_step = 0.0;  // the first and the last accepted step (0 if none)
 };
 
 // Surfaces tested along each accepted step (none for plain geodesics). A surface set provides
@@ -156,8 +157,10 @@ class GeodesicRay {
 
   // Sets up the ray from state y0 (chart coordinates, covariant momentum) on `sheet`. Returns false if
   // the ray ended already (flat space, a non-finite start, or already beyond its escape target).
+  // first_step > 0: the step to attempt first where the caller knows one (a segment leaving the point where the
+  // last one ended, whose last accepted step it is), at most the largest allowed; else that largest step.
   bool begin(const M& m, const double y0[8], int sheet, const TraceOptions& o, RayResult& res, Track* track,
-             Surf* surfaces = nullptr) {
+             Surf* surfaces = nullptr, double first_step = 0.0) {
     m_ = &m;
     o_ = &o;
     res_ = &res;
@@ -223,6 +226,7 @@ class GeodesicRay {
       // rejected first attempt is cheaper than the 3-4 steps of growing from a small guess (16 % fewer
       // steps in a curved room, whose segments are short).
       h = S::kAdaptive ? max_step(r_) : rk4_step_for(r_);
+      if (S::kAdaptive && first_step > 0.0) h = std::min(h, first_step);
       log_err_prev = kLogErrFloor;
       monitor_every_ = o.monitor_every > 0 ? o.monitor_every : (track || o.tol < 1e-8) ? 1 : 4;
       last_rejected_ = false;
@@ -286,6 +290,8 @@ class GeodesicRay {
     }
     // Accepted step from y to ynew.
     ++res.n_steps;
+    if (res.n_steps == 1) res.first_step = h;
+    res.last_step = h;
     h_scale_ = std::max(h_scale_, hp.mag);
     if constexpr (Surf::kActive) {
       // Surface hit: located on the dense output; the state there from a full-order step, or the dense
@@ -524,9 +530,9 @@ class GeodesicRay {
 // last accepted state.
 template <class M, class S, class Surf = NoSurfaces>
 void integrate_ray(const M& m, double y[8], int sheet, const TraceOptions& o, RayResult& res, Track* track,
-                   Surf* surfaces = nullptr) {
+                   Surf* surfaces = nullptr, double first_step = 0.0) {
   GeodesicRay<M, S, Surf> ray;
-  if (ray.begin(m, y, sheet, o, res, track, surfaces)) {
+  if (ray.begin(m, y, sheet, o, res, track, surfaces, first_step)) {
     S st;
     st.init(m, ray.y);
     double ynew[8];

@@ -130,12 +130,12 @@ struct LaneRay final : LaneJob<M, B> {
   GeodesicRay<M, StepperLane<M, B>, Surf> ray;
   // Sets the ray up (GeodesicRay::begin and the first next()); false if it has ended already.
   bool start(const M& m, const double y0[8], int sheet, const TraceOptions& o, RayResult& res, Track* track,
-             Surf* surfaces = nullptr) {
+             Surf* surfaces = nullptr, double first_step = 0.0) {
     this->y = ray.y;
     this->h = &ray.h;
     this->log_prev = &ray.log_err_prev;
     this->tol = o.tol;
-    return ray.begin(m, y0, sheet, o, res, track, surfaces) && ray.next();
+    return ray.begin(m, y0, sheet, o, res, track, surfaces, first_step) && ray.next();
   }
   bool step(StepperLane<M, B>& st, double err, const StepFactors<double>& f, const double ynew[8]) override {
     return ray.advance(st, err, f, ynew) && ray.next();
