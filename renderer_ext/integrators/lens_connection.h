@@ -11,10 +11,10 @@
 //
 // W = sum of the w, with the image's own exact Jacobian. It depends on B alone, so a BSDF-sampled ray that
 // first hits a light at B' has the light strategy's pdf as soon as B''s weights and the image it is are known:
-// p is that formula if the ray is one of B''s images of order < N, else 0 (the light strategy never draws it). A light sample counts only if its
-// geodesic's first hit is the point it aimed at (light_sample_hits), so both strategies use the pdf of the
-// first light crossing and multiple importance sampling stays unbiased: the lens map only has to be right
-// for efficiency, and it is exact to the integrator's tolerance. In Kerr the same draw, in the Schwarzschild
+// p is that formula if the ray is one of B''s images of order < N, else 0 (the light strategy never draws
+// it). A light sample counts only if its geodesic's first hit is the point it aimed at (light_sample_hits),
+// so both strategies use the pdf of the first light crossing and multiple importance sampling stays
+// unbiased: the lens map only has to be right for efficiency, and it is exact to the integrator's tolerance. In Kerr the same draw, in the Schwarzschild
 // map of the same mass, is a proposal whose pdf is evaluated where a direction's proxy orbit first crosses
 // the light (lens_proposal.h).
 //
@@ -217,9 +217,11 @@ inline LensImages lens_images(const SphericalLens& lens, const LensVertex& v, co
 // The light strategy's draw among the images of light point b seen from v (LensConnection). The direct image
 // (order 0) is solved; each later order's weight is estimated from one evaluation of the lens map at its Newton
 // start (order 0's root, or the last order's start, moved on by the difference in Phi: one Newton step or two
-// from its root), and that order is solved only when it is drawn, or when a BSDF direction is matched against
-// it. The probabilities weight / total are a function of v and B alone, so both strategies agree on them, and
-// the drawn image's Jacobian is its own exact one: only which image to draw is estimated, never a density.
+// from its root), taken one Newton step on without evaluating again (LensMap::newton_estimate; where that step
+// is too long to trust, the order is solved at once from there). An estimated order is solved only when it is
+// drawn, or when a BSDF direction is matched against it. The probabilities weight / total are a function of v
+// and B alone, so both strategies agree on them, and the drawn image's Jacobian is its own exact one: only
+// which image to draw is estimated, never a density.
 class LensImagePick {
  public:
   LensImagePick(const SphericalLens& lens, const LensVertex& v, const LensLight& b, int orders)
@@ -241,7 +243,7 @@ class LensImagePick {
         const LensRay r = map.solve(target, z, &z, m > 0 ? &start_[m] : nullptr);
         if (!r.ok) break;
         pair_.fill(v, m, r, ir);
-        solved_[m] = true;
+        solved_[m] = found_[m] = true;
       }
       weight[m] = lens_image_weight(rays_, ir, v, b);
       total += weight[m];
@@ -278,7 +280,7 @@ class LensImagePick {
   LensImageRays rays_;
   LensStart start_[LensImages::kMax];
   bool solved_[LensImages::kMax] = {};
-  bool found_[LensImages::kMax] = {true, true, true, true};
+  bool found_[LensImages::kMax] = {};  // (solved and found)
 };
 
 // An image of light point b seen from v with the lens map's local linearisation: its direction w (local),

@@ -67,8 +67,9 @@ class SegmentTracer {
 
   // Traces the geodesic segment from user-frame point x on `sheet` along local direction d into e, as an
   // awaitable: done at once in flat space, a coroutine waiting for its geodesic in curved space. An integrated
-  // segment that leaves where another ended attempts that one's last step (`from`'s SegmentEnd::step) first,
-  // instead of the largest step allowed, which the error control rejected ~1.2 times per segment (Kerr-Newman).
+  // segment attempts first_step first where the caller has one (the SegmentEnd::step of the segment that ended
+  // where this one starts, or the camera's first_step below), instead of the largest step allowed, which the
+  // error control rejected ~1.2 times per segment (Kerr-Newman room).
   auto segment(V3 x, int sheet, V3 d, int skip, Track* track, RenderStats& st, PathFrames<M>& frames,
                Scheduler* sched, SegmentEnd& e, double first_step = 0.0) const {
     if constexpr (M::kFlat) {
