@@ -203,9 +203,10 @@ class PhotonTracer {
     PathFrames<M> frames;
     int specular = 0;
     double g = 1.0;  // nu at the segment's end over nu at the light
+    double first_step = 0.0;  // the last segment's last step, where the next one starts (SegmentTracer::segment)
     for (int k = 0; k < o_.max_depth; ++k) {
       SegmentEnd e;
-      co_await segments_.segment(x, sheet, d, skip, nullptr, st, frames, sched, e);
+      co_await segments_.segment(x, sheet, d, skip, nullptr, st, frames, sched, e, first_step);
       if (e.status != kHit) co_return;
       if constexpr (!M::kFlat) g *= e.energy;
       const Material& hm = sc_.materials[sc_.prims[e.prim].material];
@@ -231,6 +232,7 @@ class PhotonTracer {
       d = bs.wi;
       sheet = e.sheet;
       skip = e.prim;
+      first_step = e.step;
     }
   }
 
