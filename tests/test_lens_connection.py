@@ -249,7 +249,8 @@ def test_the_light_strategys_draw_solves_the_images_it_picks_and_estimates_the_r
     each later order's from the ray one Newton step on from its start, solved only when drawn. The images it
     solves are the exact ones (direction and area Jacobian), and the estimated weights are within a few per cent
     of the exact ones (measured in fig07's pairs: 0.99-1.04x; from the start's own ray 0.9-2.6x; here Ellis's
-    order 2 to 0.9-1.13x), so it draws about as the exact weights would. Room-like pairs: A on a wall of a box around the centre, B on a lamp."""
+    order 2 to 0.9-1.13x), so it draws about as the exact weights would. Room-like pairs: A on the floor of a
+    box around the centre, B on a lamp in its ceiling."""
     m, params = _example(entry)
     s = _scale(m)
     rng = np.random.default_rng(3)
