@@ -549,8 +549,6 @@ nb::object spherical_lens(const std::string& metric, const std::vector<double>& 
 
 NB_MODULE(_core, m) {
   m.doc() = "warpviz native core: null geodesics of the spacetimes registered in renderer_ext/metrics/";
-  // A bright edge pixel's multiple of edge_samples (integrators/render_types.h), for the sample index's bound.
-  m.attr("BRIGHT_EDGE_FACTOR") = wv::kBrightEdgeFactor;
   m.def(
       "sample_multiples",
       [](int edge_samples, int detail_samples) {

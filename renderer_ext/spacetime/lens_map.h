@@ -148,8 +148,7 @@ class LensMap {
     double z = first ? first->z : guess >= 0.0 ? guess : std::log(2.0);
     double z_prev = NAN, f_prev = NAN, slope_prev = NAN;  // the last evaluation's z, Phi - target, dPhi/dz
     for (int it = 0; it < 60; ++it) {
-      const double gap = -std::expm1(-z);  // (tau - tau_lo) / span
-      const double tau = tau_lo_ + span * gap;
+      const double tau = tau_at(z);
       LensRay r;
       double dphi_dtau = 0.0;
       double next;
@@ -190,7 +189,7 @@ class LensMap {
           // (from evaluations close together: from far apart the cubic's curvature misses by ~1e-1, the
           // slope by ~1e-7)
           if (std::fabs(w) <= 0.3 && std::isfinite(curv) && 0.5 * std::fabs(curv) * step * step <= 0.1 * tol &&
-              moved_ray(tau_lo_ + span * -std::expm1(-z_prev), tau, next, target, dphi_dz + curv * step, moved)) {
+              moved_ray(tau_at(z_prev), tau, next, target, dphi_dz + curv * step, moved)) {
             if (z_out) *z_out = next;
             moved.evals = it + 1;
             return moved;
@@ -212,8 +211,7 @@ class LensMap {
     LensStart s;
     s.z = z;
     if (!valid_ || !(z >= 0.0)) return s;
-    const double gap = -std::expm1(-z);
-    const double tau = tau_lo_ + (tau_hi_ - tau_lo_) * gap;
+    const double tau = tau_at(z);
     s.ok = tau < tau_hi_ && eval(tau, s.r, &s.dphi_dtau);
     return s;
   }
@@ -233,7 +231,7 @@ class LensMap {
     if (!(slope > 0.0)) return false;
     const double step = (target - s.r.phi) / slope, z = s.z + step;
     if (!(std::fabs(step) <= kEstimateStep && z >= 0.0)) return false;
-    const double tau = tau_lo_ + span * -std::expm1(-s.z);
+    const double tau = tau_at(s.z);
     return moved_ray(tau, tau, z, target, slope, r);
   }
 
@@ -277,24 +275,22 @@ class LensMap {
     if (!valid_ || s_.throat || !(M > 0.0)) return flat_guess(gamma);
     const FlatLine l = flat_line(gamma);
     const double len = std::sqrt(l.dx * l.dx + l.dy * l.dy);
-    if (!(len > 0.0) || !l.passes_closest) return bent_line_guess(gamma);
+    if (!(len > 0.0)) return flat_guess(gamma);
     const double RA = 1.0 / uA_, b = RA * std::fabs(l.dy) / len;
-    if (!(b > 2.5 * M)) return bent_line_guess(gamma);
-    const double sa = RA * l.dx / len, sb = sa + len;
-    const double ra = std::sqrt(b * b + sa * sa), rb = std::sqrt(b * b + sb * sb);
-    const double turn = 2.0 * M / b * (sb * (sb / rb - sa / ra) + b * (b / rb - b / ra)) / len;
-    // (the centre lies to the left of the line, dy > 0: turning away from it lowers the direction's angle psi)
-    const double z = line_z(std::atan2(l.dy, l.dx) - std::max(0.3, 1.02 - 1.6 * M / b) * turn, true);
-    return z >= 0.0 ? z : bent_line_guess(gamma);
+    if (l.passes_closest && b > 2.5 * M) {
+      const double sa = RA * l.dx / len, sb = sa + len;
+      const double ra = std::sqrt(b * b + sa * sa), rb = std::sqrt(b * b + sb * sb);
+      const double turn = 2.0 * M / b * (sb * (sb / rb - sa / ra) + b * (b / rb - b / ra)) / len;
+      // (the centre lies to the left of the line, dy > 0: turning away from it lowers the direction's angle psi)
+      const double z = line_z(std::atan2(l.dy, l.dx) - std::max(0.3, 1.02 - 1.6 * M / b) * turn, true);
+      if (z >= 0.0) return z;
+    }
+    return bent_line_guess(gamma, l, b, M);
   }
 
-  // The straight line from A to B aimed short of B by 0.8 of its first-order bending (direct_guess).
-  double bent_line_guess(double gamma) const {
-    const double M = -0.5 * s_.a[1];
-    const FlatLine l = flat_line(gamma);
-    const double len = std::sqrt(l.dx * l.dx + l.dy * l.dy);
-    if (!(len > 0.0)) return flat_guess(gamma);
-    const double b = (1.0 / uA_) * std::fabs(l.dy) / len;
+  // The straight line l from A to B (impact parameter b) aimed short of B by 0.8 of its first-order bending in
+  // mass M (direct_guess).
+  double bent_line_guess(double gamma, const FlatLine& l, double b, double M) const {
     const double ca = std::sqrt(std::max(0.0, 1.0 - b * b * uA_ * uA_)),
                  cb = std::sqrt(std::max(0.0, 1.0 - b * b * uB_ * uB_));
     const double bend = 2.0 * M / b * (l.passes_closest ? ca + cb : std::fabs(ca - cb));
@@ -332,6 +328,9 @@ class LensMap {
   }
 
  private:
+  // The branch parameter at z = -log(1 - (tau - tau_lo) / (tau_hi - tau_lo)) (solve's variable).
+  double tau_at(double z) const { return tau_lo_ + (tau_hi_ - tau_lo_) * -std::expm1(-z); }
+
   enum Case { kOutward, kInward, kThroat };
   static constexpr double kInnerMargin = 1.0 / 1.02;  // radii within 2 % of the inner sphere are left out
   static constexpr int kNodes = 12;
@@ -585,7 +584,7 @@ class LensMap {
   // three rays are not all on one branch (one turns round or leaves inward where another does not: Phi's
   // curvature jumps there): then the caller evaluates.
   bool moved_ray(double tau_prev, double tau_from, double z, double target, double slope, LensRay& r) const {
-    const double tau = tau_lo_ + (tau_hi_ - tau_lo_) * -std::expm1(-z);
+    const double tau = tau_at(z);
     Branch prev, from, br;
     if (!(tau < tau_hi_) || !branch(tau_prev, prev) || !branch(tau_from, from) || !branch(tau, br)) return false;
     for (const Branch* o : {&prev, &from})

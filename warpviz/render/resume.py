@@ -155,8 +155,8 @@ def resume_problem(img, *, settings: dict, sha256: str, aovs: list[str] | None, 
 
 def sample_multiples(edge_samples: int, detail_samples: int) -> tuple[int, int, int, int]:
     """The multiples of spp that a render's pixels get: a plain pixel, an edge pixel (the larger of the two
-    options), a detail pixel, and a bright light's edge pixel (``core.BRIGHT_EDGE_FACTOR`` x an edge pixel's,
-    where ``edge_samples`` is on); the last is the largest. The renderer's own rule
+    options), a detail pixel, and a bright light's edge pixel (``kBrightEdgeFactor`` x an edge pixel's, where
+    ``edge_samples`` is on); the last is the largest. The renderer's own rule
     (``renderer_ext/integrators/render_types.h``: ``sample_multiples``), through the binding."""
     return tuple(int(k) for k in core.sample_multiples(int(edge_samples), int(detail_samples)))
 
