@@ -184,7 +184,8 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  hi=64.0, lo_open=True, hi_open=True, derived="0.5 (box), 1.5 (gaussian), 2 (mitchell)"),  # fmt: skip
     RenderOption("aim_lights", "bool", True, "Curved space: aim light samples with pilot geodesics."),
     RenderOption("light_margin", "bool", True, "Curved space: enlarge quad and disk light proxies by the aim's "
-                 "correction (lensed images are larger)."),  # fmt: skip
+                 "correction (lensed images are larger); in Kerr and line elements grow the lights the lens "
+                 "connection's proposal sees by the metric's margin (true images lie near the proxy's)."),  # fmt: skip
     RenderOption("pilot_tol", "real", 1e-4, "Tolerance of the pilot geodesics (at least tol; they only aim, so "
                  "they cannot bias the image).", lo=0.0, hi=1.0, lo_open=True, hi_open=True),  # fmt: skip
     RenderOption("batch", "bool", True, "Curved space: many samples' geodesics step together in SIMD lanes "

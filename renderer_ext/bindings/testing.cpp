@@ -405,13 +405,14 @@ void bind_testing(nb::module_& m) {
       "estimated; pick_directions (m, 3) and pick_jacobians (m,) of each image solved, NaN where it brings nothing).");
   m.def(
       "light_crossing",
-      [](double mass, F64In pos_a, F64In w_local, F64In corner, F64In edge_u, F64In edge_v, int orders) -> nb::object {
+      [](double mass, F64In pos_a, F64In w_local, F64In corner, F64In edge_u, F64In edge_v, int orders,
+         double margin) -> nb::object {
         const auto a = copy1(pos_a, 3, "pos_a"), w = copy1(w_local, 3, "w_local");
         const auto c = copy1(corner, 3, "corner"), eu = copy1(edge_u, 3, "edge_u"), ev = copy1(edge_v, 3, "edge_v");
         wv::Scene sc;
         sc.quads.push_back(wv::make_quad({c[0], c[1], c[2]}, {eu[0], eu[1], eu[2]}, {ev[0], ev[1], ev[2]}));
         sc.prims.push_back(wv::Prim{wv::PrimKind::kQuad, 0, 0, 0, 1});
-        const wv::PlanarLight light = wv::planar_light(sc, 0);
+        const wv::PlanarLight light = wv::planar_light(sc, 0).grown(margin);
         const wv::V3 pos{a[0], a[1], a[2]};
         const wv::LinearMap identity;  // the local frame aligned with the user axes, as in lens_images
         const wv::LightCrossing x = wv::first_light_crossing(mass, pos, wv::normalize(pos), identity,
@@ -419,10 +420,11 @@ void bind_testing(nb::module_& m) {
         if (!x.ok) return nb::none();
         return nb::make_tuple(to_numpy(std::vector<double>{x.pos.x, x.pos.y, x.pos.z}, {3}), x.sweep);
       },
-      "mass"_a, "pos_a"_a, "w_local"_a, "corner"_a, "edge_u"_a, "edge_v"_a, "orders"_a,
+      "mass"_a, "pos_a"_a, "w_local"_a, "corner"_a, "edge_u"_a, "edge_v"_a, "orders"_a, "margin"_a = 0.0,
       "Test hook: where the Schwarzschild orbit of the given mass from A along local direction w (the static "
-      "frame aligned with the axes) first crosses the quad within swept azimuth orders * pi "
-      "(integrators/lens_proposal.h), as (point (3,), sweep), or None.");
+      "frame aligned with the axes) first crosses the quad, grown by margin all round in its plane "
+      "(PlanarLight::grown), within swept azimuth orders * pi (integrators/lens_proposal.h), as (point (3,), "
+      "sweep), or None.");
 }
 
 }  // namespace wv::bindings

@@ -316,8 +316,9 @@ template <class M>
 class LensConnection {
  public:
   // With `proposal`, a metric with a lens proxy (Kerr) uses the proxy's connection as a proposal
-  // (lens_proposal.h) where every light is planar.
-  LensConnection(const M& m, const Scene& sc, int orders, bool proposal)
+  // (lens_proposal.h) where every light is planar, each light grown by the proposal's margin (`margin` false:
+  // not grown).
+  LensConnection(const M& m, const Scene& sc, int orders, bool proposal, bool margin = true)
       : sc_(sc), orders_(std::clamp(orders, 1, LensImages::kMax)) {
     if constexpr (M::kStaticSpherical) {
       lens_ = m.spherical_lens();
@@ -326,8 +327,10 @@ class LensConnection {
       proposal_mass_ = lens_.cubic_mass();
       proposal_ = proposal && proposal_mass_ > 0.0 && !sc.lights.empty() &&
                   std::all_of(sc.lights.begin(), sc.lights.end(), [&](int p) { return proposal_light(sc, p); });
-      if (proposal_)
-        for (int p : sc.lights) planar_.push_back(planar_light(sc, p));
+      if (proposal_) {
+        const double own = margin ? m.lens_proxy_margin() : 0.0;
+        for (int p : sc.lights) planar_.push_back(proposal_shape(planar_light(sc, p), own));
+      }
     }
   }
 
@@ -353,7 +356,14 @@ class LensConnection {
               double per) const {
     const int p = sc_.lights[li];
     LightPoint lp;
-    if (!sample_light_point(sc_, p, v.pos, u1, u2, lp)) return false;
+    if (proposal_) {  // a point of the light as the proposal sees it (grown by its margin)
+      const PlanarLight& L = planar_[size_t(li)];
+      lp.pos = L.point(u1, u2);
+      lp.normal = L.normal();
+      lp.area = L.area();
+    } else if (!sample_light_point(sc_, p, v.pos, u1, u2, lp)) {
+      return false;
+    }
     LensImagePick pick(lens_, v, light(p, lp), orders_);
     if (!(pick.total > 0.0)) return false;
     double acc = 0.0;
@@ -390,13 +400,17 @@ class LensConnection {
   double pdf(const LensVertex& v, V3 w, int p, V3 x, const double* sel) const {
     const auto it = std::find(sc_.lights.begin(), sc_.lights.end(), p);
     if (p < 0 || it == sc_.lights.end()) return 0.0;
+    LightPoint lp;
     if (proposal_) {
+      const PlanarLight& L = planar_[size_t(it - sc_.lights.begin())];
       const LightCrossing c = crossing(v, w, int(it - sc_.lights.begin()));
       if (!c.ok) return 0.0;
-      x = c.pos;
+      lp.pos = c.pos;
+      lp.normal = L.normal();
+      lp.area = L.area();
+    } else if (!light_point_at(sc_, p, v.pos, x, lp)) {
+      return 0.0;
     }
-    LightPoint lp;
-    if (!light_point_at(sc_, p, v.pos, x, lp)) return 0.0;
     const double p_light = sel ? sel[it - sc_.lights.begin()] : 1.0 / double(sc_.light_count());
     LensImagePick pick(lens_, v, light(p, lp), orders_);
     if (!(pick.total > 0.0)) return 0.0;
@@ -430,7 +444,7 @@ class LensConnection {
   int orders_;
   bool proposal_ = false;
   double proposal_mass_ = 0.0;
-  std::vector<PlanarLight> planar_;  // as a proposal: each light's shape
+  std::vector<PlanarLight> planar_;  // as a proposal: each light's shape, grown by the margin
 };
 
 }  // namespace wv
