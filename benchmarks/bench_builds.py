@@ -19,6 +19,17 @@ A render named ``far-kerr`` or ``far-schwarzschild`` is not a scene but the far 
 WIDTH rays traced to escape or capture with dopri5 at tol 1e-8 in SIMD batches on one thread (its SPP is
 ignored): the geodesic throughput of each build, printed as rays per CPU second.
 
+With ``--error`` the comparison is at equal error: each timing renders ``--seeds`` seeds (seed 1, 2, ...), every
+render's relative MSE is taken against a converged reference rendered by the installed build (two halves of
+``--ref-spp`` samples without photons, _common.Reference, noise subtracted), and the row gives each build's mean
+relative MSE and the efficiency ratio B / A = (MSE x time of A) / (MSE x time of B): how much less time B needs
+for the same error. A build older than a scene file's keys renders its own version of the scene (``--scene-a``,
+e.g. ``git show OLD:scenes/fig10d_kerr_cornell_a09.toml > /tmp/old.toml``), so each build runs the room with the
+defaults of its day:
+
+    python benchmarks/bench_builds.py OLD/warpviz/_core*.so build/*/_core*.so --package-a OLD \
+        --renders fig10d:48x36:16 --repeat 4 --seeds 4 --error --scene-a /tmp/old.toml
+
 Writes ``builds.csv`` (one row per render) to ``--out`` (default benchmarks/results) and prints a table.
 """
 
@@ -45,9 +56,10 @@ FAR_OBSERVERS = {"far-kerr": ("Kerr", {"mass": 1.0, "spin": 0.9}),
                  "far-schwarzschild": ("Schwarzschild", {"mass": 1.0})}
 
 
-def _child(core: str, scene: str, size: str, spp: int, image: str, package: str = "") -> None:
+def _child(core: str, scene: str, size: str, spp: int, image: str, package: str = "", seeds: int = 0) -> None:
     """In a fresh process: load ``core`` as warpviz._core (and the warpviz package from the source tree
-    ``package`` where given, instead of the installed one), render on one thread, print the CPU seconds."""
+    ``package`` where given, instead of the installed one), render on one thread, print the CPU seconds
+    (``seeds`` > 0: that many renders, seeds 1, 2, ..., their images stacked)."""
     import importlib.util
     import time
 
@@ -77,10 +89,13 @@ def _child(core: str, scene: str, size: str, spp: int, image: str, package: str 
         np.save(image, np.concatenate([rays.final_directions.ravel(), rays.status.astype(float).ravel()]))
         print(json.dumps({"cpu_s": seconds, "rays": int(len(dirs))}))
         return
+    if seeds > 0:
+        wv.render(scene, width=8, height=6, spp=1, seed=0, progress=None, threads=1)  # (a line element compiles)
     t0 = time.process_time()
-    img = wv.render(scene, width=w, height=h, spp=spp, seed=1, progress=None, threads=1)
-    seconds = time.process_time() - t0
-    np.save(image, img.rgb)
+    imgs = [wv.render(scene, width=w, height=h, spp=spp, seed=s, progress=None, threads=1).rgb
+            for s in range(1, max(seeds, 1) + 1)]  # fmt: skip
+    seconds = (time.process_time() - t0) / len(imgs)
+    np.save(image, np.stack(imgs) if seeds > 0 else imgs[0])
     print(json.dumps({"cpu_s": seconds}))
 
 
@@ -97,9 +112,12 @@ def installed_core() -> Path:
 
 
 def measure(a: Path, b: Path, renders: list[tuple[str, str, int]], repeat: int,
-            packages: dict[str, str] | None = None) -> list[dict]:
+            packages: dict[str, str] | None = None, seeds: int = 0, ref_spp: int = 0,
+            scenes: dict[str, str] | None = None) -> list[dict]:
+    """Times (and with ``ref_spp`` > 0, the errors of) builds a and b on each render, alternating; ``seeds``
+    renders per timing, ``scenes`` a build's own scene file in place of the render's."""
     rows = []
-    packages = packages or {}
+    packages, scenes = packages or {}, scenes or {}
     with tempfile.TemporaryDirectory() as tmp:
         for scene, size, spp in renders:
             if scene in FAR_OBSERVERS:
@@ -108,18 +126,29 @@ def measure(a: Path, b: Path, renders: list[tuple[str, str, int]], repeat: int,
                 origin, dirs = image_plane(int(size.split("x")[0]))
                 np.save(_plane_file(tmp, scene, size), np.vstack([origin[None, :], dirs]))
             times: dict[str, list[float]] = {"a": [], "b": []}
+            mse: dict[str, list[float]] = {"a": [], "b": []}
+            ref = _reference(scene, size, ref_spp) if ref_spp > 0 else None
             rays = 0
             for _ in range(repeat):
                 for name, core in (("a", a), ("b", b)):
-                    out = subprocess.run([sys.executable, __file__, "--child", str(core), scene, size, str(spp),
-                                          f"{tmp}/{name}.npy", packages.get(name, "")],
+                    out = subprocess.run([sys.executable, __file__, "--child", str(core), scenes.get(name) or scene,
+                                          size, str(spp), f"{tmp}/{name}.npy", packages.get(name, ""), str(seeds)],
                                          capture_output=True, text=True)  # fmt: skip
                     if out.returncode != 0:
                         raise SystemExit(f"the render of {scene} with {core} failed:\n{out.stderr}")
                     result = json.loads(out.stdout.strip().splitlines()[-1])
                     times[name].append(result["cpu_s"])
                     rays = result.get("rays", 0)
+                    if ref is not None:
+                        mse[name] += [ref.rel_mse(img)[0] for img in np.load(f"{tmp}/{name}.npy")]
             same = bool(np.array_equal(np.load(f"{tmp}/a.npy"), np.load(f"{tmp}/b.npy")))
+            errors = {}
+            if ref is not None:  # (the renders repeat the same seeds: their error is the same each round)
+                ma, mb = float(np.mean(mse["a"])), float(np.mean(mse["b"]))
+                errors = {"a_rel_mse": ma, "b_rel_mse": mb,
+                          "efficiency_b_over_a_min": ma * min(times["a"]) / (mb * min(times["b"])),
+                          "efficiency_b_over_a_median": ma * float(np.median(times["a"])) /
+                                                        (mb * float(np.median(times["b"])))}  # fmt: skip
             rows.append({"scene": scene, "size": size, "spp": spp, "repeat": repeat,
                          "a_cpu_s_min": min(times["a"]), "a_cpu_s_median": float(np.median(times["a"])),
                          "b_cpu_s_min": min(times["b"]), "b_cpu_s_median": float(np.median(times["b"])),
@@ -127,8 +156,20 @@ def measure(a: Path, b: Path, renders: list[tuple[str, str, int]], repeat: int,
                          "a_over_b_median": float(np.median(times["a"]) / np.median(times["b"])),
                          "identical": same, "rays": rays,
                          "a_rays_per_s_best": rays / min(times["a"]) if rays else "",
-                         "b_rays_per_s_best": rays / min(times["b"]) if rays else ""})  # fmt: skip
+                         "b_rays_per_s_best": rays / min(times["b"]) if rays else "", **errors})  # fmt: skip
     return rows
+
+
+def _reference(scene: str, size: str, spp: int):
+    """The converged reference of a render: the installed build's unbiased estimator (no photons) in two
+    halves of spp samples, both cores."""
+    import warpviz as wv
+    from _common import UNBIASED, Reference
+
+    w, h = (int(v) for v in size.split("x"))
+    halves = [wv.render(scene, width=w, height=h, spp=spp, seed=seed, progress=None, **UNBIASED).rgb
+              for seed in (10_001, 10_002)]  # fmt: skip
+    return Reference(halves[0], halves[1], spp)
 
 
 def main(argv: list[str] | None = None) -> list[dict]:
@@ -140,6 +181,13 @@ def main(argv: list[str] | None = None) -> list[dict]:
     p.add_argument("--package-a", default="", help="the source tree whose warpviz package runs with core A, where "
                    "its Python layer differs from the installed one (e.g. `git archive OLD | tar -x -C DIR`)")
     p.add_argument("--package-b", default="", help="the same for core B")
+    p.add_argument("--error", action="store_true", help="compare at equal error: each build's relative MSE "
+                   "against a converged reference, and the efficiency ratio")
+    p.add_argument("--seeds", type=int, default=None, help="renders (seeds 1, 2, ...) per timing (default 1; "
+                   "with --error 4)")
+    p.add_argument("--ref-spp", type=int, default=512, help="samples of each half of the reference (--error)")
+    p.add_argument("--scene-a", default="", help="build A's own scene file in place of the render's scene")
+    p.add_argument("--scene-b", default="", help="the same for build B")
     p.add_argument("--quick", action="store_true", help="one tiny render of each (seconds; for tests)")
     p.add_argument("--out", type=Path, default=RESULTS)
     args = p.parse_args(argv)
@@ -158,7 +206,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         renders.append((scene, size, int(spp)))
     repeat = args.repeat or (1 if args.quick else 3)
     print(machine_line(threads=1))
-    rows = measure(Path(a), Path(b), renders, repeat, {"a": args.package_a, "b": args.package_b})
+    seeds = args.seeds if args.seeds is not None else (4 if args.error else 0)
+    rows = measure(Path(a), Path(b), renders, repeat, {"a": args.package_a, "b": args.package_b}, seeds=seeds,
+                   ref_spp=args.ref_spp if args.error else 0, scenes={"a": args.scene_a, "b": args.scene_b})
     print(f"A = {a}\nB = {b}")
     print(f"{'scene':8s} {'size':>9s} {'spp':>4s} {'A min/med s':>13s} {'B min/med s':>13s} {'A/B min':>8s} "
           f"{'A/B med':>8s}  identical")  # fmt: skip
@@ -166,6 +216,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         print(f"{r['scene']:8s} {r['size']:>9s} {r['spp']:4d} {r['a_cpu_s_min']:6.2f}/{r['a_cpu_s_median']:<6.2f} "
               f"{r['b_cpu_s_min']:6.2f}/{r['b_cpu_s_median']:<6.2f} {r['a_over_b_min']:8.3f} {r['a_over_b_median']:8.3f}"
               f"  {r['identical']}")  # fmt: skip
+        if "a_rel_mse" in r:
+            print(f"{'':8s} rel. MSE A {r['a_rel_mse']:.4g}, B {r['b_rel_mse']:.4g}; efficiency B / A "
+                  f"{r['efficiency_b_over_a_min']:.3f} (min times), {r['efficiency_b_over_a_median']:.3f} (median)")
         if r["rays"]:
             print(f"{'':8s} {r['rays']} rays: A {r['a_rays_per_s_best']:.4g}, B {r['b_rays_per_s_best']:.4g} per CPU s "
                   "(best)")  # fmt: skip
@@ -176,7 +229,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
 
 if __name__ == "__main__":
     if len(sys.argv) > 1 and sys.argv[1] == "--child":
-        _child(sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5]), sys.argv[6], sys.argv[7])
+        _child(sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5]), sys.argv[6], sys.argv[7],
+               int(sys.argv[8]) if len(sys.argv) > 8 else 0)
     else:
         main()
     raise SystemExit(0)

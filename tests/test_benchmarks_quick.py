@@ -390,3 +390,10 @@ def test_builds_benchmark_quick_mode_compares_a_build_with_itself(tmp_path):
     assert rows[0]["identical"]
     with pytest.raises(SystemExit, match="no compiled core"):
         bench_builds.main([str(tmp_path / "missing.so"), "--quick", "--out", str(tmp_path)])
+    # at equal error: the same build on the same seeds (B from the scene's own file) has the same error
+    scene_file = str(Path(tree) / "scenes" / "fig03_cornell_flat.toml")
+    rows = bench_builds.main(["--renders", "fig03:8x6:2", "--repeat", "1", "--error", "--seeds", "2", "--ref-spp", "8",
+                              "--scene-b", scene_file, "--out", str(tmp_path)])
+    r = rows[0]
+    assert r["identical"] and r["a_rel_mse"] == r["b_rel_mse"] > 0
+    assert r["efficiency_b_over_a_min"] == pytest.approx(r["a_cpu_s_min"] / r["b_cpu_s_min"])
