@@ -460,8 +460,33 @@ def test_the_proposal_grows_the_light_by_its_margin():
     assert np.linalg.norm(x0[0] - b) < 1e-7 and np.array_equal(x0[0], x1[0]) and x0[1] == x1[1]
 
 
+@pytest.mark.parametrize("shape", ["quad", "disk", "ring"])
+def test_the_proposal_draws_the_margin_with_its_share_and_knows_its_density(shape):
+    """ProposalLight (lens_proposal.h): the proposal draws B on the light with probability 1 - q and in the margin
+    round it with probability q, each uniformly by area, and its density is a function of the point alone: over a
+    grid of (u1, u2) the share of points on the light is 1 - q, the mean of 1 / density is the grown shape's area
+    (the density integrates to 1), and each part has one density."""
+    margin, share, n = 0.9, 0.15, 64
+    if shape == "quad":  # a skew quad, its edges 6 and ~5.4 long
+        args, area = ([-3.0, -3.0, 8.0], [6.0, 0.0, 0.0], [2.0, 5.0, 0.0], 0.0, 0.0), 30.0
+    else:  # a disk of radius 3 (a ring: with a hole of radius 1.5, which the margin shrinks)
+        r_in = 1.5 if shape == "ring" else 0.0
+        args, area = ([0.0, 1.0, 8.0], [1.0, 0.0, 0.0], [0.0, -1.0, 0.0], r_in, 3.0), math.pi * (9.0 - r_in**2)
+    args = (*(np.array(v) for v in args[:3]), *args[3:])
+    pts, dens, on, grown_area, q = testing.proposal_light_draws(*args, margin, share, n)
+    assert q == share and grown_area > area
+    on = on.astype(bool)
+    assert on.mean() == pytest.approx(1 - share, abs=2.0 / n)
+    assert np.allclose(dens[on], (1 - share) / area) and np.allclose(dens[~on], share / (grown_area - area))
+    assert np.mean(1.0 / dens) == pytest.approx(grown_area, rel=0.02)
+    assert np.allclose(pts[:, 2], 8.0)  # in the light's plane
+    # no margin: the light alone, every draw on it
+    pts, dens, on, grown_area, q = testing.proposal_light_draws(*args, 0.0, share, 8)
+    assert q == 0.0 and on.all() and np.allclose(dens, 1.0 / area) and grown_area == pytest.approx(area)
+
+
 def test_kerr_proposal_margin_keeps_the_mean_and_lowers_the_noise():
-    """The Kerr proposal draws from each light grown by the spin length a (Kerr::lens_proxy_margin): directions by
+    """The Kerr proposal draws from each light grown by twice the spin length a (Kerr::lens_proxy_margin): directions by
     which the light arrives in Kerr but whose Schwarzschild orbit misses the light itself were BSDF sampling's alone,
     rare samples at full weight. With the margin (light_margin, the default) the mean stays brute force's and the
     noise is lower than without it."""

@@ -425,6 +425,40 @@ void bind_testing(nb::module_& m) {
       "frame aligned with the axes) first crosses the quad, grown by margin all round in its plane "
       "(PlanarLight::grown), within swept azimuth orders * pi (integrators/lens_proposal.h), as (point (3,), "
       "sweep), or None.");
+  m.def(
+      "proposal_light_draws",
+      [](F64In p0, F64In p1, F64In p2, double r_in, double r_out, double margin, double share, int n) {
+        const auto a = copy1(p0, 3, "p0"), b = copy1(p1, 3, "p1"), c = copy1(p2, 3, "p2");
+        wv::PlanarLight L;
+        if (r_out > 0.0) {  // a disk: centre p0, axes p1, p2 (orthonormal)
+          L.is_disk = true;
+          L.disk.center = {a[0], a[1], a[2]};
+          L.disk.axis_u = {b[0], b[1], b[2]};
+          L.disk.axis_v = {c[0], c[1], c[2]};
+          L.disk.normal = wv::normalize(wv::cross(L.disk.axis_u, L.disk.axis_v));
+          L.disk.r_in = r_in;
+          L.disk.r_out = r_out;
+        } else {  // a quad: corner p0, edges p1, p2
+          L.quad = wv::make_quad({a[0], a[1], a[2]}, {b[0], b[1], b[2]}, {c[0], c[1], c[2]});
+        }
+        const wv::ProposalLight pl(L, margin, share);
+        std::vector<double> pts, dens, on;
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j) {
+            const wv::V3 x = pl.point((i + 0.5) / n, (j + 0.5) / n);
+            pts.insert(pts.end(), {x.x, x.y, x.z});
+            dens.push_back(pl.density(x));
+            on.push_back(pl.on_light(x) ? 1.0 : 0.0);
+          }
+        const size_t k = size_t(n) * size_t(n);
+        return nb::make_tuple(to_numpy(std::move(pts), {k, 3}), to_numpy(std::move(dens), {k}),
+                              to_numpy(std::move(on), {k}), pl.grown.area(), pl.q);
+      },
+      "p0"_a, "p1"_a, "p2"_a, "r_in"_a, "r_out"_a, "margin"_a, "share"_a, "n"_a,
+      "Test hook: the Kerr proposal's draws from a light and its margin (integrators/lens_proposal.h, "
+      "ProposalLight) at the n x n grid of (u1, u2): points (n*n, 3), their density per unit area (n*n,), whether "
+      "each is on the light (n*n,), the grown shape's area and the margin's share. A quad: corner p0, edges p1, p2 "
+      "(r_out 0); a disk: centre p0, orthonormal axes p1, p2, radii r_in, r_out.");
 }
 
 }  // namespace wv::bindings

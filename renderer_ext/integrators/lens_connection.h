@@ -329,7 +329,7 @@ class LensConnection {
                   std::all_of(sc.lights.begin(), sc.lights.end(), [&](int p) { return proposal_light(sc, p); });
       if (proposal_) {
         const double own = margin ? m.lens_proxy_margin() : 0.0;
-        for (int p : sc.lights) planar_.push_back(proposal_shape(planar_light(sc, p), own));
+        for (int p : sc.lights) planar_.emplace_back(planar_light(sc, p), own);
       }
     }
   }
@@ -356,11 +356,11 @@ class LensConnection {
               double per) const {
     const int p = sc_.lights[li];
     LightPoint lp;
-    if (proposal_) {  // a point of the light as the proposal sees it (grown by its margin)
-      const PlanarLight& L = planar_[size_t(li)];
+    if (proposal_) {  // a point of the light or its margin as the proposal draws them
+      const ProposalLight& L = planar_[size_t(li)];
       lp.pos = L.point(u1, u2);
-      lp.normal = L.normal();
-      lp.area = L.area();
+      lp.normal = L.light.normal();
+      lp.area = 1.0 / L.density(lp.pos);
     } else if (!sample_light_point(sc_, p, v.pos, u1, u2, lp)) {
       return false;
     }
@@ -402,12 +402,12 @@ class LensConnection {
     if (p < 0 || it == sc_.lights.end()) return 0.0;
     LightPoint lp;
     if (proposal_) {
-      const PlanarLight& L = planar_[size_t(it - sc_.lights.begin())];
+      const ProposalLight& L = planar_[size_t(it - sc_.lights.begin())];
       const LightCrossing c = crossing(v, w, int(it - sc_.lights.begin()));
       if (!c.ok) return 0.0;
       lp.pos = c.pos;
-      lp.normal = L.normal();
-      lp.area = L.area();
+      lp.normal = L.light.normal();
+      lp.area = 1.0 / L.density(lp.pos);
     } else if (!light_point_at(sc_, p, v.pos, x, lp)) {
       return 0.0;
     }
@@ -426,7 +426,8 @@ class LensConnection {
  private:
   // As a proposal: where the proxy orbit from v along w first crosses light number li.
   LightCrossing crossing(const LensVertex& v, V3 w, int li) const {
-    return first_light_crossing(proposal_mass_, v.pos, v.radial_local, v.to_local, w, planar_[size_t(li)], orders_);
+    return first_light_crossing(proposal_mass_, v.pos, v.radial_local, v.to_local, w, planar_[size_t(li)].grown,
+                                orders_);
   }
 
   LensLight light(int p, const LightPoint& lp) const {
@@ -444,7 +445,7 @@ class LensConnection {
   int orders_;
   bool proposal_ = false;
   double proposal_mass_ = 0.0;
-  std::vector<PlanarLight> planar_;  // as a proposal: each light's shape, grown by the margin
+  std::vector<ProposalLight> planar_;  // as a proposal: each light and its margin
 };
 
 }  // namespace wv

@@ -5,7 +5,7 @@
 // lands. Multiple importance sampling stays unbiased when both strategies evaluate the light strategy's
 // density as a function of the direction alone. Here that function is
 //
-//   p(w) = P(light) cos(theta_w) / (area W(B_S(w))),
+//   p(w) = P(light) cos(theta_w) / (area W(B_S(w)))   (with a margin: 1 / area the draws' density at B_S),
 //
 // where B_S(w) is the point at which the proxy orbit leaving the vertex along w first crosses the light
 // (swept azimuth below orders * pi, the orders sampled), and W is the proxy map's weight sum of B_S's
@@ -13,14 +13,15 @@
 // only if its own B is B_S of the direction it drew, so p is exactly the density of the samples that count.
 // A BSDF ray that reaches the light in the true metric gets p of its direction whatever point it hit.
 //
-// The true images lie near the proxy's, not on them (in Kerr frame dragging moves them by about the spin length a
-// at the light), and directions by which light arrives but whose proxy orbit misses the light have p = 0: there
-// only BSDF sampling finds the light, one rare sample at its full weight (albedo times radiance). So the proposal
-// sees each light grown by a margin all round in its plane (proposal_shape: the metric's lens_proxy_margin, else
-// a twentieth of the light's size) and draws B on the grown light, area and all; a sample whose B lies in the
-// margin counts where its true geodesic reaches the light. In fig10d (a = 0.9 M) 10 % of the direct light at the
-// first diffuse vertices came by BSDF samples of p = 0 and made 76 % of that light's second moment; the margin
-// took the error of the room 26 % down at equal time (benchmarks/README.md).
+// The true images lie near the proxy's, not on them (in Kerr frame dragging moves them by up to about twice the
+// spin length a at the light), and directions by which light arrives but whose proxy orbit misses the light have
+// p = 0: there only BSDF sampling finds the light, one rare sample at its full weight (albedo times radiance). So
+// the proposal sees each light grown by a margin all round in its plane (ProposalLight: the metric's
+// lens_proxy_margin, else a twentieth of the light's size) and draws B on the light itself, or with probability
+// kProposalMarginShare in the margin, each uniformly by area; p above then takes the draws' density at B_S in place
+// of 1 / area, and a sample whose B lies in the margin counts where its true geodesic reaches the light. In fig10d
+// (a = 0.9 M) 10 % of the direct light at the first diffuse vertices came by BSDF samples of p = 0 and made 76 % of
+// that light's second moment; the margin took the room's error 33 % down at equal time (benchmarks/README.md).
 //
 // B_S(w): the orbit lies in the plane of the centre, the vertex and w (planar_orbit.h gives u = 1/R as an
 // elliptic function of the swept azimuth phi). That plane meets the light's plane in a line, clipped to the
@@ -128,15 +129,83 @@ struct PlanarLight {
 // The proposal's margin round each light: the metric's own bound on how far its images of a light point lie from
 // the proxy's (MetricBase::lens_proxy_margin; Kerr: its spin length a), or where the metric gives none, this
 // fraction of the light's size (the square root of its area); at most kProposalMarginMax of that size.
-inline constexpr double kProposalMargin = 0.05, kProposalMarginMax = 0.25;
+inline constexpr double kProposalMargin = 0.05, kProposalMarginMax = 0.5;
+// The margin's share of the proposal's draws. Fewer than by area (a third of a 30-unit lamp's grown by 3 units
+// all round, most of them wasted: Kerr's ray from the vertex seldom lands on the light from there) and a wider
+// margin: fig10d's relative MSE (direct light, 48 x 36 x 16) 0.0586 by area with a margin of a, 0.0534 with 2a
+// and a share of 0.15-0.2, 0.0548 with a and 0.2, 0.0563 with 3a and 0.3 (benchmarks/README.md).
+inline constexpr double kProposalMarginShare = 0.15;
 
-// Light L as the proposal sees it: grown by its margin (metric_margin: the metric's, negative where it gives
-// none, 0 for none at all).
-inline PlanarLight proposal_shape(const PlanarLight& L, double metric_margin) {
-  const double size = std::sqrt(L.area());
-  const double margin = metric_margin >= 0.0 ? metric_margin : kProposalMargin * size;
-  return L.grown(std::min(margin, kProposalMarginMax * size));
-}
+// A light as the proposal draws its points B: on the light itself with probability 1 - q, in the margin round it
+// (its grown shape less the light) with probability q, each uniformly by area; `density` is the draws' density
+// per unit area at a point of the grown shape, a function of the point alone.
+struct ProposalLight {
+  PlanarLight light, grown;
+  double q = 0.0;  // the margin's share of the draws (0 where there is no margin)
+  double area_light = 0.0, area_margin = 0.0;
+  double s0 = 0.0, s1 = 1.0, r0 = 0.0, r1 = 1.0;  // (a quad) the light's edges in the grown quad's coordinates
+
+  ProposalLight() = default;
+  // Light L grown by its margin (metric_margin: the metric's, negative where it gives none, 0 for none at all),
+  // the margin drawn with probability q_margin.
+  ProposalLight(const PlanarLight& L, double metric_margin, double q_margin = kProposalMarginShare) : light(L) {
+    const double size = std::sqrt(L.area());
+    const double margin = metric_margin >= 0.0 ? metric_margin : kProposalMargin * size;
+    grown = L.grown(std::min(margin, kProposalMarginMax * size));
+    area_light = L.area();
+    area_margin = std::max(0.0, grown.area() - area_light);
+    q = area_margin > 1e-12 * area_light ? q_margin : 0.0;
+    if (!L.is_disk) {
+      const Quad& g = grown.quad;
+      s0 = dot(L.quad.corner - g.corner, g.du);
+      s1 = dot(L.quad.corner + L.quad.eu - g.corner, g.du);
+      r0 = dot(L.quad.corner - g.corner, g.dv);
+      r1 = dot(L.quad.corner + L.quad.ev - g.corner, g.dv);
+    }
+  }
+
+  bool on_light(V3 x) const {
+    if (!light.is_disk) {
+      const double s = dot(x - light.quad.corner, light.quad.du), r = dot(x - light.quad.corner, light.quad.dv);
+      return s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0;
+    }
+    const Disk& k = light.disk;
+    const V3 d = x - k.center;
+    const double a = dot(d, k.axis_u) / dot(k.axis_u, k.axis_u), b = dot(d, k.axis_v) / dot(k.axis_v, k.axis_v);
+    const double rho2 = a * a + b * b;
+    return rho2 >= k.r_in * k.r_in && rho2 <= k.r_out * k.r_out;
+  }
+
+  // The density per unit area of the draws at point x of the grown shape.
+  double density(V3 x) const { return on_light(x) ? (1.0 - q) / area_light : q / area_margin; }
+
+  // The point drawn from (u1, u2) in [0, 1)^2.
+  V3 point(double u1, double u2) const {
+    if (!(u1 >= 1.0 - q)) return light.point(q > 0.0 ? u1 / (1.0 - q) : u1, u2);
+    double t = (u1 - (1.0 - q)) / q;  // in [0, 1): which part of the margin, then where in it
+    if (light.is_disk) {  // the band outside the light, or the one inside its hole
+      const Disk &k = light.disk, &g = grown.disk;
+      const double out = g.r_out * g.r_out - k.r_out * k.r_out, in = k.r_in * k.r_in - g.r_in * g.r_in;
+      const bool outer = t * (out + in) < out;
+      const double lo = outer ? k.r_out : g.r_in, hi = outer ? g.r_out : k.r_in;
+      t = outer ? t * (out + in) / out : (t * (out + in) - out) / in;
+      const double rho = std::sqrt(lo * lo + std::min(t, 1.0) * (hi * hi - lo * lo)), phi = kTwoPi * u2;
+      return k.center + k.axis_u * (rho * std::cos(phi)) + k.axis_v * (rho * std::sin(phi));
+    }
+    // (a quad) four strips of the grown quad's unit square round the light's rectangle [s0, s1] x [r0, r1]
+    const double a[4] = {r0, 1.0 - r1, s0 * (r1 - r0), (1.0 - s1) * (r1 - r0)};
+    const double total = a[0] + a[1] + a[2] + a[3];
+    double x = t * total, s, r;
+    int i = 0;
+    while (i < 3 && x >= a[i]) x -= a[i++];
+    const double f = a[i] > 0.0 ? std::min(x / a[i], 1.0) : 0.0;
+    if (i == 0) s = u2, r = f * r0;
+    else if (i == 1) s = u2, r = r1 + f * (1.0 - r1);
+    else if (i == 2) s = f * s0, r = r0 + u2 * (r1 - r0);
+    else s = s1 + f * (1.0 - s1), r = r0 + u2 * (r1 - r0);
+    return grown.quad.corner + grown.quad.eu * s + grown.quad.ev * r;
+  }
+};
 
 // Whether light prim p's shape is one the proposal finds crossings with (quads and disks: planar).
 inline bool proposal_light(const Scene& sc, int p) {

@@ -107,11 +107,12 @@ struct Kerr : MetricBase<Kerr> {
   // and where the image proxies start their Newton search (integrators/light_connection.h).
   static constexpr bool kLensProxy = true;
   SphericalLens lens_proxy() const { return SphericalLens::schwarzschild(M); }
-  // The spin length a: frame dragging moves Kerr's images of a light point off the proxy's by about that much
-  // at the light (the shadow's own shift from Schwarzschild's is up to 2a). In the Kerr rooms (a/M = 0.6, 0.9,
-  // 0.99, a 30-unit lamp, 48 x 36 x 16 spp) the error was lowest for margins of 0.05-0.1, 0.1 and >= 0.1 of the
-  // lamp's size, a = 0.056, 0.104 and 0.145 of it (benchmarks/README.md).
-  double lens_proxy_margin() const { return std::fabs(a); }
+  // Twice the spin length a, the largest shift of Kerr's shadow from Schwarzschild's: frame dragging moves Kerr's
+  // images of a light point off the proxy's by about that much at the light. In the Kerr rooms (a/M = 0.6, 0.9,
+  // 0.99, a 30-unit lamp, 48 x 36 x 16 spp) the error was lowest for margins drawn by area of 0.05-0.1, 0.1 and
+  // >= 0.1 of the lamp's size (a = 0.056, 0.104 and 0.145 of it), and with the margin's share of the draws cut to
+  // 0.15 (lens_proposal.h, kProposalMarginShare), for 2a in fig10d (benchmarks/README.md).
+  double lens_proxy_margin() const { return 2.0 * std::fabs(a); }
   double horizon_radius() const { return r_plus; }
   // Halfway between the horizon and the prograde equatorial photon orbit (the innermost one).
   double capture_radius() const { return r_plus + 0.5 * (photon_orbit(-1.0) - r_plus); }

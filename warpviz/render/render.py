@@ -230,8 +230,8 @@ def render(
         than the light, and the part of it outside the proxy is found by BSDF sampling alone, as
         fireflies. Fewer light samples reach the light, but the noise is lower. In Kerr and in a metric
         from its line element, it also grows each light the lens connection's proposal draws from by the
-        metric's margin (Kerr: its spin length a; a line element: a twentieth of the light's size), for the
-        same reason: the true images lie near the Schwarzschild ones, not on them. Unbiased either way.
+        metric's margin (Kerr: twice its spin length a; a line element: a twentieth of the light's size), for
+        the same reason: the true images lie near the Schwarzschild ones, not on them. Unbiased either way.
     pilot_tol : float, optional, keyword-only
         Integration tolerance of those pilot geodesics (default 1e-4; never tighter than ``tol`` is
         needed). They only decide where light samples are aimed, so their accuracy changes the noise,
