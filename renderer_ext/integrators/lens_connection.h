@@ -76,7 +76,8 @@ inline LensVertex lens_vertex(const SegmentEnd& e) {
 // A light point as the lens connection sees it.
 struct LensLight {
   V3 pos, normal;       // user frame
-  double area = 0.0;    // sampled: the light's (a sphere's: its half facing the vertex)
+  double area = 0.0;    // sampled: the light's (a sphere's: its half facing the vertex; the Kerr proposal's: 1 / the
+                        // density of its draws at the point, lens_proposal.h)
   int sheet = 1;
   bool two_sided = false;
 };
@@ -329,7 +330,7 @@ class LensConnection {
                   std::all_of(sc.lights.begin(), sc.lights.end(), [&](int p) { return proposal_light(sc, p); });
       if (proposal_) {
         const double own = margin ? m.lens_proxy_margin() : 0.0;
-        for (int p : sc.lights) planar_.emplace_back(planar_light(sc, p), own);
+        for (int p : sc.lights) proposal_lights_.emplace_back(planar_light(sc, p), own);
       }
     }
   }
@@ -357,7 +358,7 @@ class LensConnection {
     const int p = sc_.lights[li];
     LightPoint lp;
     if (proposal_) {  // a point of the light or its margin as the proposal draws them
-      const ProposalLight& L = planar_[size_t(li)];
+      const ProposalLight& L = proposal_lights_[size_t(li)];
       lp.pos = L.point(u1, u2);
       lp.normal = L.light.normal();
       lp.area = 1.0 / L.density(lp.pos);
@@ -402,7 +403,7 @@ class LensConnection {
     if (p < 0 || it == sc_.lights.end()) return 0.0;
     LightPoint lp;
     if (proposal_) {
-      const ProposalLight& L = planar_[size_t(it - sc_.lights.begin())];
+      const ProposalLight& L = proposal_lights_[size_t(it - sc_.lights.begin())];
       const LightCrossing c = crossing(v, w, int(it - sc_.lights.begin()));
       if (!c.ok) return 0.0;
       lp.pos = c.pos;
@@ -426,8 +427,8 @@ class LensConnection {
  private:
   // As a proposal: where the proxy orbit from v along w first crosses light number li.
   LightCrossing crossing(const LensVertex& v, V3 w, int li) const {
-    return first_light_crossing(proposal_mass_, v.pos, v.radial_local, v.to_local, w, planar_[size_t(li)].grown,
-                                orders_);
+    const PlanarLight& grown = proposal_lights_[size_t(li)].grown;
+    return first_light_crossing(proposal_mass_, v.pos, v.radial_local, v.to_local, w, grown, orders_);
   }
 
   LensLight light(int p, const LightPoint& lp) const {
@@ -445,7 +446,7 @@ class LensConnection {
   int orders_;
   bool proposal_ = false;
   double proposal_mass_ = 0.0;
-  std::vector<ProposalLight> planar_;  // as a proposal: each light and its margin
+  std::vector<ProposalLight> proposal_lights_;  // as a proposal: each light and its margin
 };
 
 }  // namespace wv

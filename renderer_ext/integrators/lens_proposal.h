@@ -127,7 +127,7 @@ struct PlanarLight {
 };
 
 // The proposal's margin round each light: the metric's own bound on how far its images of a light point lie from
-// the proxy's (MetricBase::lens_proxy_margin; Kerr: its spin length a), or where the metric gives none, this
+// the proxy's (MetricBase::lens_proxy_margin; Kerr: twice its spin length a), or where the metric gives none, this
 // fraction of the light's size (the square root of its area); at most kProposalMarginMax of that size.
 inline constexpr double kProposalMargin = 0.05, kProposalMarginMax = 0.5;
 // The margin's share of the proposal's draws. Fewer than by area (a third of a 30-unit lamp's grown by 3 units

@@ -173,7 +173,7 @@ struct MetricBase {
   SphericalLens lens_proxy() const { return {}; }
   // How far (user-frame length) this metric's images of a light point may lie from the proxy's: the proposal
   // grows each light by it, so that the directions by which light really arrives are the proposal's too, not
-  // BSDF sampling's alone (lens_proposal.h, proposal_shape). Negative: not known (the proposal's default).
+  // BSDF sampling's alone (lens_proposal.h, ProposalLight). Negative: not known (the proposal's default).
   double lens_proxy_margin() const { return -1.0; }
 
   // Sheets of the spacetime the user sees as separate Cartesian frames (2: a wormhole's two sides).
