@@ -207,6 +207,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
     repeat = args.repeat or (1 if args.quick else 3)
     print(machine_line(threads=1))
     seeds = args.seeds if args.seeds is not None else (4 if args.error else 0)
+    if args.error:
+        seeds = max(seeds, 1)  # (the error needs the stacked images of at least one seed)
     rows = measure(Path(a), Path(b), renders, repeat, {"a": args.package_a, "b": args.package_b}, seeds=seeds,
                    ref_spp=args.ref_spp if args.error else 0, scenes={"a": args.scene_a, "b": args.scene_b})
     print(f"A = {a}\nB = {b}")
