@@ -54,8 +54,7 @@ struct PlanarLight {
   V3 origin() const { return is_disk ? disk.center : quad.corner; }  // a point of its plane
 
   double area() const {
-    return is_disk ? M_PI * (disk.r_out * disk.r_out - disk.r_in * disk.r_in) * length(cross(disk.axis_u, disk.axis_v))
-                   : quad.area;
+    return is_disk ? disk_area(disk) : quad.area;
   }
 
   // The same light grown by `margin` (user-frame length) all round in its plane: a quad's edges move out by it, a
@@ -81,9 +80,7 @@ struct PlanarLight {
   // A point drawn uniformly by area from (u1, u2) in [0, 1)^2, as sample_light_point draws the prim's.
   V3 point(double u1, double u2) const {
     if (!is_disk) return quad.corner + quad.eu * u1 + quad.ev * u2;
-    const double rho = std::sqrt(disk.r_in * disk.r_in + u1 * (disk.r_out * disk.r_out - disk.r_in * disk.r_in));
-    const double phi = kTwoPi * u2;
-    return disk.center + disk.axis_u * (rho * std::cos(phi)) + disk.axis_v * (rho * std::sin(phi));
+    return disk_point(disk, disk_radius(disk.r_in, disk.r_out, u1), kTwoPi * u2);
   }
 
   // The intervals [lo, hi] of the parameter s of the line x0 + s d (|d| = 1, in the light's plane) that lie
@@ -169,11 +166,8 @@ struct ProposalLight {
       const double s = dot(x - light.quad.corner, light.quad.du), r = dot(x - light.quad.corner, light.quad.dv);
       return s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0;
     }
-    const Disk& k = light.disk;
-    const V3 d = x - k.center;
-    const double a = dot(d, k.axis_u) / dot(k.axis_u, k.axis_u), b = dot(d, k.axis_v) / dot(k.axis_v, k.axis_v);
-    const double rho2 = a * a + b * b;
-    return rho2 >= k.r_in * k.r_in && rho2 <= k.r_out * k.r_out;
+    const double rho2 = disk_radius2(light.disk, x);
+    return rho2 >= light.disk.r_in * light.disk.r_in && rho2 <= light.disk.r_out * light.disk.r_out;
   }
 
   // The density per unit area of the draws at point x of the grown shape.
@@ -189,8 +183,7 @@ struct ProposalLight {
       const bool outer = t * (out + in) < out;
       const double lo = outer ? k.r_out : g.r_in, hi = outer ? g.r_out : k.r_in;
       t = outer ? t * (out + in) / out : (t * (out + in) - out) / in;
-      const double rho = std::sqrt(lo * lo + std::min(t, 1.0) * (hi * hi - lo * lo)), phi = kTwoPi * u2;
-      return k.center + k.axis_u * (rho * std::cos(phi)) + k.axis_v * (rho * std::sin(phi));
+      return disk_point(k, disk_radius(lo, hi, std::min(t, 1.0)), kTwoPi * u2);
     }
     // (a quad) four strips of the grown quad's unit square round the light's rectangle [s0, s1] x [r0, r1]
     const double a[4] = {r0, 1.0 - r1, s0 * (r1 - r0), (1.0 - s1) * (r1 - r0)};

@@ -178,11 +178,9 @@ inline bool sample_light_point(const Scene& sc, int p, V3 from, double u1, doubl
     lp.area = length(cross(q.eu, q.ev));
   } else if (pr.kind == PrimKind::kDisk) {
     const Disk& k = sc.disks[pr.index];
-    const double rho = std::sqrt(k.r_in * k.r_in + u1 * (k.r_out * k.r_out - k.r_in * k.r_in));
-    const double phi = kTwoPi * u2;
-    lp.pos = k.center + k.axis_u * (rho * std::cos(phi)) + k.axis_v * (rho * std::sin(phi));
+    lp.pos = disk_point(k, disk_radius(k.r_in, k.r_out, u1), kTwoPi * u2);
     lp.normal = k.normal;
-    lp.area = M_PI * (k.r_out * k.r_out - k.r_in * k.r_in) * length(cross(k.axis_u, k.axis_v));
+    lp.area = disk_area(k);
   } else if (pr.kind == PrimKind::kSphere) {
     const Sphere& s = sc.spheres[pr.index];
     const V3 axis = normalize(from - s.center);
@@ -211,7 +209,7 @@ inline bool light_point_at(const Scene& sc, int p, V3 from, V3 x, LightPoint& lp
   } else if (pr.kind == PrimKind::kDisk) {
     const Disk& k = sc.disks[pr.index];
     lp.normal = k.normal;
-    lp.area = M_PI * (k.r_out * k.r_out - k.r_in * k.r_in) * length(cross(k.axis_u, k.axis_v));
+    lp.area = disk_area(k);
   } else if (pr.kind == PrimKind::kSphere) {
     const Sphere& s = sc.spheres[pr.index];
     lp.normal = normalize(x - s.center);

@@ -68,6 +68,24 @@ struct SurfacePoint {
 
 constexpr double kTwoPi = 6.283185307179586;
 
+// --- a disk's area and points, in units of its axes (which a scene may scale) ---------------------------
+
+inline double disk_area(const Disk& k) {
+  return M_PI * (k.r_out * k.r_out - k.r_in * k.r_in) * length(cross(k.axis_u, k.axis_v));
+}
+// The radius between lo and hi at which u in [0, 1) puts a point drawn uniformly by area.
+inline double disk_radius(double lo, double hi, double u) { return std::sqrt(lo * lo + u * (hi * hi - lo * lo)); }
+// The point of disk k's plane at radius rho and angle phi from axis_u.
+inline V3 disk_point(const Disk& k, double rho, double phi) {
+  return k.center + k.axis_u * (rho * std::cos(phi)) + k.axis_v * (rho * std::sin(phi));
+}
+// The squared radius of point x of disk k's plane.
+inline double disk_radius2(const Disk& k, V3 x) {
+  const V3 d = x - k.center;
+  const double a = dot(d, k.axis_u) / dot(k.axis_u, k.axis_u), b = dot(d, k.axis_v) / dot(k.axis_v, k.axis_v);
+  return a * a + b * b;
+}
+
 // --- segment intersection: o + t d, t in (tmin, tmax); returns the smallest such t --------------------
 
 inline bool intersect(const Sphere& s, V3 o, V3 d, double tmin, double tmax, double& t) {
