@@ -79,6 +79,25 @@ def test_kerr_shadow_is_shifted_by_frame_dragging(exact, spin):
     assert centre * D == pytest.approx(np.sign(spin) * (b_retro - b_pro) / 2, rel=5e-2)
 
 
+def test_kerr_shadow_seen_from_the_axis_has_the_polar_critical_impact_parameter():
+    """A camera far out on the spin axis (r = 1000 M) receives only light with no angular momentum about the axis
+    (cos i = 0): the shadow is a disc whose radius is Kerr's critical impact parameter at that inclination seen
+    from the axis (spacetime/kerr_shadow.h, from the spherical photon orbits; sqrt(eta + a^2) = 4.92 M at a = 0.9
+    against 3 sqrt(3) M), by the traced geodesics' dark area with sub-pixel coverage."""
+    from warpviz._native import testing
+
+    spin, D, n = 0.9, 1000.0, 48
+    half = 6.5 / D  # tan of half the field of view
+    scene = sky_only(metric("kerr", 1.0, spin), camera=(0, 0, D), fov=2 * math.degrees(math.atan(half)), size=(n, n))
+    scene["camera"]["up"] = [0, 1, 0]
+    img = wv.render(scene, spp=16, tol=1e-9)
+    dark = 1.0 - img.rgb[..., 0].astype(np.float64)
+    radius = math.sqrt(dark.sum() * (2 * half / n) ** 2 / math.pi) * D
+    b_polar = testing.kerr_critical_impact(1.0, spin, 0.0, 1.0)
+    assert radius == pytest.approx(b_polar, rel=3e-3)
+    assert abs(b_polar - math.sqrt(27.0)) > 0.05 * b_polar
+
+
 def test_flat_equals_tiny_mass_and_threads_do_not_change_images():
     scene = room(metric(), size=(20, 15), spheres=True)
     flat1 = wv.render(scene, spp=4, threads=1)

@@ -20,6 +20,7 @@
 #include "integrators/lens_connection.h"
 #include "scene/bvh.h"
 #include "scene/material.h"
+#include "spacetime/kerr_shadow.h"
 #include "spacetime/planar_orbit.h"
 
 namespace nb = nanobind;
@@ -406,7 +407,7 @@ void bind_testing(nb::module_& m) {
   m.def(
       "light_crossing",
       [](double mass, F64In pos_a, F64In w_local, F64In corner, F64In edge_u, F64In edge_v, int orders,
-         double margin) -> nb::object {
+         double margin, double spin) -> nb::object {
         const auto a = copy1(pos_a, 3, "pos_a"), w = copy1(w_local, 3, "w_local");
         const auto c = copy1(corner, 3, "corner"), eu = copy1(edge_u, 3, "edge_u"), ev = copy1(edge_v, 3, "edge_v");
         wv::Scene sc;
@@ -415,16 +416,43 @@ void bind_testing(nb::module_& m) {
         const wv::PlanarLight light = wv::planar_light(sc, 0).grown(margin);
         const wv::V3 pos{a[0], a[1], a[2]};
         const wv::LinearMap identity;  // the local frame aligned with the user axes, as in lens_images
-        const wv::LightCrossing x = wv::first_light_crossing(mass, pos, wv::normalize(pos), identity,
-                                                             wv::normalize(wv::V3{w[0], w[1], w[2]}), light, orders);
+        const double len = spin * mass;  // (Kerr's proxy masses by plane, ProxyMass; spin 0: the one mass)
+        const wv::ProxyMass pm(mass, wv::V3{0.0, 0.0, len},
+                               [&](double c) { return wv::kerr_critical_impact(mass, len, c) / std::sqrt(27.0); });
+        const wv::LightCrossing x =
+            wv::first_light_crossing([&](wv::V3 n) { return pm.at(n); }, pos, wv::normalize(pos), identity,
+                                     wv::normalize(wv::V3{w[0], w[1], w[2]}), light, orders);
         if (!x.ok) return nb::none();
         return nb::make_tuple(to_numpy(std::vector<double>{x.pos.x, x.pos.y, x.pos.z}, {3}), x.sweep);
       },
       "mass"_a, "pos_a"_a, "w_local"_a, "corner"_a, "edge_u"_a, "edge_v"_a, "orders"_a, "margin"_a = 0.0,
+      "spin"_a = 0.0,
       "Test hook: where the Schwarzschild orbit of the given mass from A along local direction w (the static "
       "frame aligned with the axes) first crosses the quad, grown by margin all round in its plane "
       "(PlanarLight::grown), within swept azimuth orders * pi (integrators/lens_proposal.h), as (point (3,), "
-      "sweep), or None.");
+      "sweep), or None. With spin a / M (along +z), the orbit's mass is the Kerr proposal's for its plane and "
+      "sense (ProxyMass).");
+  m.def(
+      "kerr_critical_impact",
+      [](double mass, double spin, double c, double cos_theta) {
+        return wv::kerr_critical_impact(mass, spin * mass, c, cos_theta);
+      },
+      "mass"_a, "spin"_a, "c"_a, "cos_theta"_a = 0.0,
+      "Test hook: Kerr's critical impact parameter (spacetime/kerr_shadow.h) for light whose angular momentum "
+      "makes cosine c with the spin (mass M, spin a / M), seen at polar angle acos(cos_theta) (0: on the "
+      "equator, whence the Kerr proposal's proxy mass is it over sqrt(27)).");
+  m.def(
+      "proxy_mass",
+      [](double mass, double spin, F64In normal) {
+        const auto n = copy1(normal, 3, "normal");
+        const double a = spin * mass;
+        const wv::ProxyMass pm(mass, wv::V3{0.0, 0.0, a},
+                               [&](double c) { return wv::kerr_critical_impact(mass, a, c) / std::sqrt(27.0); });
+        return pm.at(wv::normalize(wv::V3{n[0], n[1], n[2]}));
+      },
+      "mass"_a, "spin"_a, "normal"_a,
+      "Test hook: the Kerr proposal's proxy mass (integrators/lens_proposal.h, ProxyMass) for the backward ray's "
+      "orbit turning about unit normal (3,) by the right hand, in Kerr of the given mass and spin a / M (along +z).");
   m.def(
       "proposal_light_draws",
       [](F64In p0, F64In p1, F64In p2, double r_in, double r_out, double margin, double share, int n) {

@@ -14,9 +14,9 @@
 // p is that formula if the ray is one of B''s images of order < N, else 0 (the light strategy never draws
 // it). A light sample counts only if its geodesic's first hit is the point it aimed at (light_sample_hits),
 // so both strategies use the pdf of the first light crossing and multiple importance sampling stays
-// unbiased: the lens map only has to be right for efficiency, and it is exact to the integrator's tolerance. In Kerr the same draw, in the Schwarzschild
-// map of the same mass, is a proposal whose pdf is evaluated where a direction's proxy orbit first crosses
-// the light (lens_proposal.h).
+// unbiased: the lens map only has to be right for efficiency, and it is exact to the integrator's tolerance. In
+// Kerr the same draw, in Schwarzschild maps of about the same mass (one for each orbit plane and sense), is a
+// proposal whose pdf is evaluated where a direction's proxy orbit first crosses the light (lens_proposal.h).
 //
 // The area Jacobian of an image whose ray leaves A at angle psi from the outward radial direction and
 // sweeps Phi to reach B (radius R_B) at arrival direction t (user frame):
@@ -25,6 +25,7 @@
 #pragma once
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <vector>
 
@@ -318,8 +319,9 @@ class LensConnection {
  public:
   // With `proposal`, a metric with a lens proxy (Kerr) uses the proxy's connection as a proposal
   // (lens_proposal.h) where every light is planar, each light grown by the proposal's margin (`margin` false:
-  // not grown).
-  LensConnection(const M& m, const Scene& sc, int orders, bool proposal, bool margin = true)
+  // not grown), each orbit with the proxy's mass for its plane and sense (`plane_masses` false: the metric's).
+  LensConnection(const M& m, const Scene& sc, int orders, bool proposal, bool margin = true,
+                 bool plane_masses = true)
       : sc_(sc), orders_(std::clamp(orders, 1, LensImages::kMax)) {
     if constexpr (M::kStaticSpherical) {
       lens_ = m.spherical_lens();
@@ -329,6 +331,8 @@ class LensConnection {
       proposal_ = proposal && proposal_mass_ > 0.0 && !sc.lights.empty() &&
                   std::all_of(sc.lights.begin(), sc.lights.end(), [&](int p) { return proposal_light(sc, p); });
       if (proposal_) {
+        proxy_mass_ = ProxyMass(proposal_mass_, plane_masses ? m.lens_proxy_spin() : V3{},
+                                [&](double c) { return m.lens_proxy_mass(c); });
         const double own = margin ? m.lens_proxy_margin() : 0.0;
         for (int p : sc.lights) proposal_lights_.emplace_back(planar_light(sc, p), own);
       }
@@ -356,34 +360,16 @@ class LensConnection {
   bool sample(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf, V3& target,
               double per) const {
     const int p = sc_.lights[li];
+    if (proposal_) return sample_proposal(v, li, u1, u2, u3, w, pdf, target, per);
     LightPoint lp;
-    if (proposal_) {  // a point of the light or its margin as the proposal draws them
-      const ProposalLight& L = proposal_lights_[size_t(li)];
-      lp.pos = L.point(u1, u2);
-      lp.normal = L.light.normal();
-      lp.area = 1.0 / L.density(lp.pos);
-    } else if (!sample_light_point(sc_, p, v.pos, u1, u2, lp)) {
-      return false;
-    }
+    if (!sample_light_point(sc_, p, v.pos, u1, u2, lp)) return false;
     LensImagePick pick(lens_, v, light(p, lp), orders_);
     if (!(pick.total > 0.0)) return false;
-    double acc = 0.0;
-    int k = pick.n - 1;
-    for (int i = 0; i < pick.n; ++i) {
-      acc += pick.weight[i];
-      if (u3 * pick.total < acc) {
-        k = i;
-        break;
-      }
-    }
+    const int k = pick_order(pick.weight, pick.n, pick.total, u3);
     double jac;
     if (!(pick.weight[k] > 0.0) || !pick.image(k, w, jac)) return false;
     pdf = pick.weight[k] / pick.total * jac / (lp.area * per);
     target = lp.pos;
-    if (proposal_) {  // it counts only if its proxy orbit crosses the light first at B
-      const LightCrossing x = crossing(v, w, li);
-      if (!x.ok || length(x.pos - lp.pos) > 1e-6 * (1.0 + length(lp.pos))) return false;
-    }
     return pdf > 0.0 && std::isfinite(pdf);
   }
 
@@ -401,18 +387,11 @@ class LensConnection {
   double pdf(const LensVertex& v, V3 w, int p, V3 x, const double* sel) const {
     const auto it = std::find(sc_.lights.begin(), sc_.lights.end(), p);
     if (p < 0 || it == sc_.lights.end()) return 0.0;
+    const int li = int(it - sc_.lights.begin());
+    const double p_light = sel ? sel[li] : 1.0 / double(sc_.light_count());
+    if (proposal_) return p_light * proposal_pdf(v, w, li);
     LightPoint lp;
-    if (proposal_) {
-      const ProposalLight& L = proposal_lights_[size_t(it - sc_.lights.begin())];
-      const LightCrossing c = crossing(v, w, int(it - sc_.lights.begin()));
-      if (!c.ok) return 0.0;
-      lp.pos = c.pos;
-      lp.normal = L.light.normal();
-      lp.area = 1.0 / L.density(lp.pos);
-    } else if (!light_point_at(sc_, p, v.pos, x, lp)) {
-      return 0.0;
-    }
-    const double p_light = sel ? sel[it - sc_.lights.begin()] : 1.0 / double(sc_.light_count());
+    if (!light_point_at(sc_, p, v.pos, x, lp)) return 0.0;
     LensImagePick pick(lens_, v, light(p, lp), orders_);
     if (!(pick.total > 0.0)) return 0.0;
     for (int k = 0; k < pick.n; ++k) {  // nearest orders first: a BSDF direction is mostly the direct image
@@ -425,10 +404,101 @@ class LensConnection {
   }
 
  private:
+  // The image order drawn by u3 from weights weight[0 .. n) of sum total.
+  static int pick_order(const double* weight, int n, double total, double u3) {
+    double acc = 0.0;
+    for (int i = 0; i < n; ++i) {
+      acc += weight[i];
+      if (u3 * total < acc) return i;
+    }
+    return n - 1;
+  }
+
+  // As a proposal: the proxy's mass for orbits about oriented normal `normal` (user frame; lens_proposal.h,
+  // ProxyMass).
+  double mass_about(V3 normal) const { return proxy_mass_.at(normal); }
+
   // As a proposal: where the proxy orbit from v along w first crosses light number li.
   LightCrossing crossing(const LensVertex& v, V3 w, int li) const {
     const PlanarLight& grown = proposal_lights_[size_t(li)].grown;
-    return first_light_crossing(proposal_mass_, v.pos, v.radial_local, v.to_local, w, grown, orders_);
+    return first_light_crossing([&](V3 nrm) { return mass_about(nrm); }, v.pos, v.radial_local, v.to_local, w,
+                                grown, orders_);
+  }
+
+  // The proxy's picks among the images of light point B (number li) seen from v: one per distinct mass of the
+  // orders' orbits (even orders turn about the normal of the plane of the centre, v and B one way, odd ones the
+  // other way, and the proxy's mass may differ: proxy_mass); the orders' weights, each from its own pick, and
+  // their sum.
+  struct ProposalPicks {
+    SphericalLens lens[2];  // (the picks' lens maps refer to them)
+    std::optional<LensImagePick> own[2];
+    int of[LensImages::kMax] = {};  // order m's pick: own[of[m]]
+    double weight[LensImages::kMax] = {};
+    double total = 0.0;
+    int n = 0;
+    LensImagePick& pick(int m) { return *own[of[m]]; }
+  };
+  void proposal_picks(const LensVertex& v, int li, V3 B, double area, ProposalPicks& pk) const {
+    const ProposalLight& L = proposal_lights_[size_t(li)];
+    LightPoint lp;
+    lp.pos = B;
+    lp.normal = L.light.normal();
+    lp.area = area;
+    const LensLight b = light(sc_.lights[li], lp);
+    const V3 nrm = normalize(cross(v.pos, B));  // the even orders' sense of rotation
+    const double mass[2] = {mass_about(nrm), mass_about(-nrm)};
+    const bool one = mass[0] == mass[1] || !finite(nrm);
+    if (one) {
+      pk.own[0].emplace(lens_, v, b, orders_);
+    } else {
+      for (int j = 0; j < 2; ++j) {
+        pk.lens[j] = SphericalLens::schwarzschild(mass[j]);
+        pk.own[j].emplace(pk.lens[j], v, b, orders_);
+      }
+    }
+    for (int m = 0; m < orders_; ++m) {
+      pk.of[m] = one ? 0 : m % 2;
+      const LensImagePick& pm = pk.pick(m);
+      if (m >= pm.n) break;
+      pk.weight[m] = pm.weight[m];
+      pk.total += pm.weight[m];
+      pk.n = m + 1;
+    }
+  }
+
+  bool sample_proposal(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf,
+                       V3& target, double per) const {
+    const ProposalLight& L = proposal_lights_[size_t(li)];
+    const V3 B = L.point(u1, u2);
+    const double area = 1.0 / L.density(B);
+    ProposalPicks pk;
+    proposal_picks(v, li, B, area, pk);
+    if (!(pk.total > 0.0)) return false;
+    const int k = pick_order(pk.weight, pk.n, pk.total, u3);
+    double jac;
+    if (!(pk.weight[k] > 0.0) || !pk.pick(k).image(k, w, jac)) return false;
+    pdf = pk.weight[k] / pk.total * jac / (area * per);
+    target = B;
+    // it counts only if its proxy orbit crosses the light first at B
+    const LightCrossing x = crossing(v, w, li);
+    if (!x.ok || length(x.pos - B) > 1e-6 * (1.0 + length(B))) return false;
+    return pdf > 0.0 && std::isfinite(pdf);
+  }
+
+  double proposal_pdf(const LensVertex& v, V3 w, int li) const {
+    const LightCrossing c = crossing(v, w, li);
+    if (!c.ok) return 0.0;
+    const double area = 1.0 / proposal_lights_[size_t(li)].density(c.pos);
+    ProposalPicks pk;
+    proposal_picks(v, li, c.pos, area, pk);
+    if (!(pk.total > 0.0)) return 0.0;
+    for (int k = 0; k < pk.n; ++k) {  // nearest orders first: a BSDF direction is mostly the direct image
+      V3 wk;
+      double jac;
+      if (pk.weight[k] > 0.0 && pk.pick(k).image(k, wk, jac) && dot(wk, w) > 1.0 - kLensMatchCos)
+        return pk.weight[k] / pk.total * jac / area;
+    }
+    return 0.0;
   }
 
   LensLight light(int p, const LightPoint& lp) const {
@@ -446,6 +516,7 @@ class LensConnection {
   int orders_;
   bool proposal_ = false;
   double proposal_mass_ = 0.0;
+  ProxyMass proxy_mass_;  // as a proposal: the proxy's mass by the orbit's plane and sense
   std::vector<ProposalLight> proposal_lights_;  // as a proposal: each light and its margin
 };
 

@@ -17,6 +17,7 @@
 #include "engine/register.h"
 #include "core/simd.h"
 #include "spacetime/frame.h"
+#include "spacetime/kerr_shadow.h"
 #include "spacetime/metric.h"
 
 namespace wv {
@@ -113,13 +114,16 @@ struct Kerr : MetricBase<Kerr> {
   // >= 0.1 of the lamp's size (a = 0.056, 0.104 and 0.145 of it), and with the margin's share of the draws cut to
   // 0.15 (lens_proposal.h, kProposalMarginShare), for 2a in fig10d (benchmarks/README.md).
   double lens_proxy_margin() const { return 2.0 * std::fabs(a); }
+  // The proposal's proxy masses (integrators/lens_proposal.h, ProxyMass): for light whose angular momentum makes
+  // cosine c with the spin (the direction of lens_proxy_spin), the Schwarzschild mass b_c / sqrt(27) whose critical
+  // impact parameter is Kerr's b_c at that inclination (spacetime/kerr_shadow.h).
+  V3 lens_proxy_spin() const { return {0.0, 0.0, a}; }
+  double lens_proxy_mass(double c) const { return kerr_critical_impact(M, a, c) / std::sqrt(27.0); }
   double horizon_radius() const { return r_plus; }
   // Halfway between the horizon and the prograde equatorial photon orbit (the innermost one).
   double capture_radius() const { return r_plus + 0.5 * (photon_orbit(-1.0) - r_plus); }
   // Equatorial circular photon orbit, prograde (sense -1) or retrograde (+1) (Bardeen, Press & Teukolsky).
-  double photon_orbit(double sense) const {
-    return 2.0 * M * (1.0 + std::cos(2.0 / 3.0 * std::acos(sense * std::fabs(a) / M)));
-  }
+  double photon_orbit(double sense) const { return kerr_photon_orbit(M, a, sense); }
   // The spherical photon orbit with zero angular momentum, over the poles: the largest root of
   // r^3 - 3 M r^2 + a^2 r + a^2 M = 0.
   double polar_photon_orbit() const {

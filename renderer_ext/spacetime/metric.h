@@ -50,6 +50,7 @@
 #include <string>
 
 #include "core/dual.h"
+#include "core/vec3.h"
 #include "spacetime/landmarks.h"
 #include "spacetime/lens_map.h"
 #include "spacetime/params.h"
@@ -175,6 +176,14 @@ struct MetricBase {
   // grows each light by it, so that the directions by which light really arrives are the proposal's too, not
   // BSDF sampling's alone (lens_proposal.h, ProposalLight). Negative: not known (the proposal's default).
   double lens_proxy_margin() const { return -1.0; }
+  // The spin vector (user frame, length units: Kerr's a along its axis) by which the proxy's mass differs from
+  // orbit to orbit (zero: one mass), and that mass for light whose angular momentum makes cosine c with the spin
+  // (integrators/lens_proposal.h, ProxyMass).
+  V3 lens_proxy_spin() const { return {}; }
+  double lens_proxy_mass(double c) const {
+    (void)c;
+    return 0.0;
+  }
 
   // Sheets of the spacetime the user sees as separate Cartesian frames (2: a wormhole's two sides).
   static constexpr int kSheets = 1;
