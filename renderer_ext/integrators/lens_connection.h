@@ -425,58 +425,68 @@ class LensConnection {
                                 grown, orders_);
   }
 
-  // The proxy's picks among the images of light point B (number li) seen from v: one per distinct mass of the
-  // orders' orbits (even orders turn about the normal of the plane of the centre, v and B one way, odd ones the
-  // other way, and the proxy's mass may differ: proxy_mass); the orders' weights, each from its own pick, and
-  // their sum.
-  struct ProposalPicks {
-    SphericalLens lens[2];  // (the picks' lens maps refer to them)
-    std::optional<LensImagePick> own[2];
-    int of[LensImages::kMax] = {};  // order m's pick: own[of[m]]
+  // The proxy's draw among the images of light point B (number li) seen from v. The orders' weights (the
+  // probabilities of drawing each) are those of the proxy map of the even orders' mass (the orbit turning about the
+  // normal of the plane of the centre, v and B one way: order 0's exact, the later ones' estimated, as
+  // LensImagePick's); an odd order's image turns the other way and is solved in the map of its own mass
+  // (ProxyMass), built only when that image is drawn or matched (about one draw in ten). Weights are only the
+  // draw's probabilities, a function of v and B, and each image's Jacobian is its own map's exact one.
+  class ProposalPicks {
+   public:
+    ProposalPicks(const LensConnection& c, const LensVertex& v, int li, V3 B, double area) : v_(v) {
+      const ProposalLight& L = c.proposal_lights_[size_t(li)];
+      LightPoint lp;
+      lp.pos = B;
+      lp.normal = L.light.normal();
+      lp.area = area;
+      b_ = c.light(c.sc_.lights[li], lp);
+      orders_ = c.orders_;
+      const V3 nrm = normalize(cross(v.pos, B));  // the even orders' sense of rotation
+      const double even = c.mass_about(nrm), odd = c.mass_about(-nrm);
+      one_ = even == odd || !finite(nrm);
+      if (one_) {
+        own_[0].emplace(c.lens_, v, b_, orders_);
+      } else {
+        lens_[0] = SphericalLens::schwarzschild(even);
+        lens_[1] = SphericalLens::schwarzschild(odd);
+        own_[0].emplace(lens_[0], v, b_, orders_);
+      }
+      const LensImagePick& p = *own_[0];
+      n = p.n;
+      total = p.total;
+      for (int m = 0; m < n; ++m) weight[m] = p.weight[m];
+    }
+
+    int n = 0;
     double weight[LensImages::kMax] = {};
     double total = 0.0;
-    int n = 0;
-    LensImagePick& pick(int m) { return *own[of[m]]; }
+
+    // The image of order k in its own mass's map (LensImagePick::image).
+    bool image(int k, V3& w, double& jac) {
+      if (one_ || k % 2 == 0) return own_[0]->image(k, w, jac);
+      if (!own_[1]) own_[1].emplace(lens_[1], v_, b_, orders_);
+      return k < own_[1]->n && own_[1]->image(k, w, jac);
+    }
+
+   private:
+    LensVertex v_;
+    LensLight b_;
+    int orders_ = 1;
+    bool one_ = true;
+    SphericalLens lens_[2];  // (the picks' lens maps refer to them)
+    std::optional<LensImagePick> own_[2];
   };
-  void proposal_picks(const LensVertex& v, int li, V3 B, double area, ProposalPicks& pk) const {
-    const ProposalLight& L = proposal_lights_[size_t(li)];
-    LightPoint lp;
-    lp.pos = B;
-    lp.normal = L.light.normal();
-    lp.area = area;
-    const LensLight b = light(sc_.lights[li], lp);
-    const V3 nrm = normalize(cross(v.pos, B));  // the even orders' sense of rotation
-    const double mass[2] = {mass_about(nrm), mass_about(-nrm)};
-    const bool one = mass[0] == mass[1] || !finite(nrm);
-    if (one) {
-      pk.own[0].emplace(lens_, v, b, orders_);
-    } else {
-      for (int j = 0; j < 2; ++j) {
-        pk.lens[j] = SphericalLens::schwarzschild(mass[j]);
-        pk.own[j].emplace(pk.lens[j], v, b, orders_);
-      }
-    }
-    for (int m = 0; m < orders_; ++m) {
-      pk.of[m] = one ? 0 : m % 2;
-      const LensImagePick& pm = pk.pick(m);
-      if (m >= pm.n) break;
-      pk.weight[m] = pm.weight[m];
-      pk.total += pm.weight[m];
-      pk.n = m + 1;
-    }
-  }
 
   bool sample_proposal(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf,
                        V3& target, double per) const {
     const ProposalLight& L = proposal_lights_[size_t(li)];
     const V3 B = L.point(u1, u2);
     const double area = 1.0 / L.density(B);
-    ProposalPicks pk;
-    proposal_picks(v, li, B, area, pk);
+    ProposalPicks pk(*this, v, li, B, area);
     if (!(pk.total > 0.0)) return false;
     const int k = pick_order(pk.weight, pk.n, pk.total, u3);
     double jac;
-    if (!(pk.weight[k] > 0.0) || !pk.pick(k).image(k, w, jac)) return false;
+    if (!(pk.weight[k] > 0.0) || !pk.image(k, w, jac)) return false;
     pdf = pk.weight[k] / pk.total * jac / (area * per);
     target = B;
     // it counts only if its proxy orbit crosses the light first at B
@@ -489,13 +499,12 @@ class LensConnection {
     const LightCrossing c = crossing(v, w, li);
     if (!c.ok) return 0.0;
     const double area = 1.0 / proposal_lights_[size_t(li)].density(c.pos);
-    ProposalPicks pk;
-    proposal_picks(v, li, c.pos, area, pk);
+    ProposalPicks pk(*this, v, li, c.pos, area);
     if (!(pk.total > 0.0)) return 0.0;
     for (int k = 0; k < pk.n; ++k) {  // nearest orders first: a BSDF direction is mostly the direct image
       V3 wk;
       double jac;
-      if (pk.weight[k] > 0.0 && pk.pick(k).image(k, wk, jac) && dot(wk, w) > 1.0 - kLensMatchCos)
+      if (pk.weight[k] > 0.0 && pk.image(k, wk, jac) && dot(wk, w) > 1.0 - kLensMatchCos)
         return pk.weight[k] / pk.total * jac / area;
     }
     return 0.0;
