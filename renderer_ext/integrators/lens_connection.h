@@ -25,8 +25,8 @@
 #pragma once
 
 #include <algorithm>
-#include <optional>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "core/trig.h"

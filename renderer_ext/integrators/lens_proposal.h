@@ -2,8 +2,8 @@
 // whose metric declares the Schwarzschild map of the same mass as its lens proxy, and a mass for each orbit plane
 // and sense: ProxyMass below). The light strategy draws a point B on a light by area and one of B's images in the
 // proxy map, with the probabilities of lens_connection.h; the geodesic along that direction then follows the true
-// metric and lands where it lands. Multiple importance sampling stays unbiased when both strategies evaluate the light strategy's
-// density as a function of the direction alone. Here that function is
+// metric and lands where it lands. Multiple importance sampling stays unbiased when both strategies evaluate the
+// light strategy's density as a function of the direction alone. Here that function is
 //
 //   p(w) = P(light) cos(theta_w) / (area W(B_S(w)))   (with a margin: 1 / area the draws' density at B_S),
 //
