@@ -175,6 +175,13 @@ nb::dict guide_tree(F64In pos, std::vector<int> sheets, F64In dirs, F64In values
   return out;
 }
 
+// The Kerr proposal's proxy masses in Kerr of the given mass and spin a / M (along +z), as Kerr::lens_proxy_spin and
+// lens_proxy_mass give them to the proposal.
+wv::ProxyMass kerr_proxy_mass(double mass, double spin) {
+  const double a = spin * mass;
+  return wv::ProxyMass(mass, wv::V3{0.0, 0.0, a}, [&](double c) { return wv::kerr_critical_mass(mass, a, c); });
+}
+
 }  // namespace
 
 void bind_testing(nb::module_& m) {
@@ -416,9 +423,7 @@ void bind_testing(nb::module_& m) {
         const wv::PlanarLight light = wv::planar_light(sc, 0).grown(margin);
         const wv::V3 pos{a[0], a[1], a[2]};
         const wv::LinearMap identity;  // the local frame aligned with the user axes, as in lens_images
-        const double len = spin * mass;  // (Kerr's proxy masses by plane, ProxyMass; spin 0: the one mass)
-        const wv::ProxyMass pm(mass, wv::V3{0.0, 0.0, len},
-                               [&](double c) { return wv::kerr_critical_impact(mass, len, c) / std::sqrt(27.0); });
+        const wv::ProxyMass pm = kerr_proxy_mass(mass, spin);  // (spin 0: the one mass)
         const wv::LightCrossing x =
             wv::first_light_crossing([&](wv::V3 n) { return pm.at(n); }, pos, wv::normalize(pos), identity,
                                      wv::normalize(wv::V3{w[0], w[1], w[2]}), light, orders);
@@ -445,10 +450,7 @@ void bind_testing(nb::module_& m) {
       "proxy_mass",
       [](double mass, double spin, F64In normal) {
         const auto n = copy1(normal, 3, "normal");
-        const double a = spin * mass;
-        const wv::ProxyMass pm(mass, wv::V3{0.0, 0.0, a},
-                               [&](double c) { return wv::kerr_critical_impact(mass, a, c) / std::sqrt(27.0); });
-        return pm.at(wv::normalize(wv::V3{n[0], n[1], n[2]}));
+        return kerr_proxy_mass(mass, spin).at(wv::normalize(wv::V3{n[0], n[1], n[2]}));
       },
       "mass"_a, "spin"_a, "normal"_a,
       "Test hook: the Kerr proposal's proxy mass (integrators/lens_proposal.h, ProxyMass) for the backward ray's "

@@ -118,7 +118,7 @@ struct Kerr : MetricBase<Kerr> {
   // cosine c with the spin (the direction of lens_proxy_spin), the Schwarzschild mass b_c / sqrt(27) whose critical
   // impact parameter is Kerr's b_c at that inclination (spacetime/kerr_shadow.h).
   V3 lens_proxy_spin() const { return {0.0, 0.0, a}; }
-  double lens_proxy_mass(double c) const { return kerr_critical_impact(M, a, c) / std::sqrt(27.0); }
+  double lens_proxy_mass(double c) const { return kerr_critical_mass(M, a, c); }
   double horizon_radius() const { return r_plus; }
   // Halfway between the horizon and the prograde equatorial photon orbit (the innermost one).
   double capture_radius() const { return r_plus + 0.5 * (photon_orbit(-1.0) - r_plus); }

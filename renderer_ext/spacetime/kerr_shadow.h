@@ -3,7 +3,7 @@
 // A spherical photon orbit of radius r between the prograde and the retrograde equatorial circular one has
 // (Bardeen 1973; M the mass, a the spin length, E = 1)
 //   xi(r)  = L_z = -(r^3 - 3 M r^2 + a^2 r + a^2 M) / (a (r - M)),
-//   eta(r) = Q   = r^3 (4 a^2 M - r (r - 3 M)^2) / (a^2 (r - M)^2),
+//   eta(r) = Q   = r^3 (4 a^2 M - r (r - 3 M)^2) / (a^2 (r - M)^2).
 // A far ray that approaches it, seen at polar angle theta from the spin axis, has impact parameter
 // b = sqrt(eta + xi^2 + a^2 cos^2 theta) (the radius on the observer's sky: alpha^2 + beta^2, alpha = -xi / sin theta,
 // beta^2 = eta + a^2 cos^2 theta - xi^2 cot^2 theta), and its angular momentum is inclined to the spin by cos i =
@@ -43,6 +43,12 @@ inline double kerr_critical_impact(double M, double a, double c, double cos_thet
   }
   at(0.5 * (lo + hi), b);
   return b;
+}
+
+// The Schwarzschild mass whose critical impact parameter, sqrt(27) M, is Kerr's for cosine c on the equator: the
+// Kerr proposal's proxy mass for that inclination before its blend (integrators/lens_proposal.h, ProxyMass).
+inline double kerr_critical_mass(double M, double a, double c) {
+  return kerr_critical_impact(M, a, c) / std::sqrt(27.0);
 }
 
 }  // namespace wv
