@@ -785,6 +785,7 @@ class PathTracer {
     todo[n_todo++] = {sc_.camera.position, camera_.start_direction(camera_.direction_at(x, y), energy0),
                       sc_.camera.sheet, -1, 0, 1u, 1.0};
     double radiance = 0.0;
+    bool captured = false;
     auto leaf = [&](bool emits, uint32_t code, uint32_t end) {
       ++leaves;
       any |= emits;
@@ -807,6 +808,7 @@ class PathTracer {
       }
       SegmentEnd e;
       co_await segments_.segment(b.x, b.sheet, b.d, b.skip, nullptr, st, frames, sched, e);
+      captured |= e.status == kHorizon;
       const Material* mat = e.status == kHit ? &sc_.materials[sc_.prims[e.prim].material] : nullptr;
       if (!(mat && !mat->emits() && mat->is_delta() && b.depth < kProbeSpecular &&
             leaves + n_todo + 2 <= kProbeLeaves)) {  // an emitter, a non-specular surface, the sky, or the end
@@ -839,6 +841,7 @@ class PathTracer {
     hit.light = any && !all ? kProbeMixed : int32_t(signature);
     hit.shape = shape;
     hit.radiance = float(radiance);
+    hit.captured = captured;
   }
 
  private:

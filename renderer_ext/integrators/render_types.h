@@ -127,6 +127,7 @@ struct ProbeHit {
   int32_t light = 0;
   uint32_t shape = 0;
   float radiance = 0.0f;  // the brightest emitter its branches end on (the largest channel, times the branch's share)
+  bool captured = false;  // some followed branch ends in a horizon
 };
 
 enum SegmentKind : int8_t { kCameraSegment = 0, kBounceSegment = 1, kLightSegment = 2 };
