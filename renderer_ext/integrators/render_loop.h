@@ -73,84 +73,88 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
 // (corners, edge midpoints and centres, shared by neighbours). With `edges`, a pixel whose nine lattice points
 // disagree on the emitters their branches end on, or one of which sees some (kProbeMixed), is an edge pixel
 // (straddling the edge of a light seen directly or in mirrors and glass), a bright edge pixel where one of those
-// points sees an emitter at radiance `bright` or more; with `details`, one of the others
+// points sees an emitter at radiance `bright` or more; so is a pixel none of whose lattice points sees a light
+// where one more probe through a light's image point in it (images: light_image_points) sees one, or, on a hole's
+// shadow edge, one of kRimProbes^2 more probes inside it does (thin lensed arcs). With `details`, one of the others
 // whose lattice points disagree on where their branches end (two shapes, a shape and the sky or the hole) is
 // a detail pixel. Depends only on the scene and the pixel, so every window agrees on it.
-inline constexpr int kRimProbes = 8;
+inline constexpr int kRimProbes = 8;  // (per side of a pixel on a shadow's edge)
 template <class M, class S, class Probe>
 std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, int Y0, int W, int H,
                                    const Probe& probe, bool edges, bool details, const std::function<bool()>& poll,
                                    bool& cancelled, RenderStats& stats, const std::vector<double>& images = {},
                                    double bright = INFINITY) {
-  const size_t LW = size_t(2 * W + 1), LH = size_t(2 * H + 1), n = LW * LH;
-  std::vector<ProbeHit> hit(n);
-  constexpr size_t kChunk = 256;  // lattice points per parallel task
   std::mutex stats_mutex;
-  auto body = [&](size_t c) {
-    const size_t k0 = c * kChunk, k1 = std::min(n, k0 + kChunk);
-    RenderStats st;
-    auto make = [&](size_t k, SampleScheduler<M, S>* sched) {
-      const size_t i = k0 + k;
-      return probe(X0 + 0.5 * double(i % LW), Y0 + 0.5 * double(i / LW), st, sched, hit[i]);
+  // Probes through image points point(k, x, y), k < count, into out, in parallel chunks; false if cancelled.
+  auto run_probes = [&](size_t count, const auto& point, std::vector<ProbeHit>& out) {
+    out.assign(count, ProbeHit{});
+    constexpr size_t kChunk = 256;  // probes per parallel task
+    auto body = [&](size_t c) {
+      const size_t k0 = c * kChunk, k1 = std::min(count, k0 + kChunk);
+      RenderStats st;
+      auto make = [&](size_t k, SampleScheduler<M, S>* sched) {
+        double x, y;
+        point(k0 + k, x, y);
+        return probe(x, y, st, sched, out[k0 + k]);
+      };
+      run_samples<M, S>(m, o.batch, k1 - k0, make);
+      const std::lock_guard<std::mutex> lock(stats_mutex);
+      stats.add(st);
     };
-    run_samples<M, S>(m, o.batch, k1 - k0, make);
-    const std::lock_guard<std::mutex> lock(stats_mutex);
-    stats.add(st);
+    return parallel_for((count + kChunk - 1) / kChunk, o.threads, 1, body, poll);
   };
-  cancelled = !parallel_for((n + kChunk - 1) / kChunk, o.threads, 1, body, poll);
   std::vector<int64_t> classes;
+  const size_t LW = size_t(2 * W + 1), LH = size_t(2 * H + 1);
+  std::vector<ProbeHit> hit;
+  cancelled = !run_probes(LW * LH, [&](size_t i, double& x, double& y) {
+    x = X0 + 0.5 * double(i % LW);
+    y = Y0 + 0.5 * double(i / LW);
+  }, hit);
   if (cancelled) return classes;
-  // A light's image point (images: light_image_points) in a pixel none of whose lattice probes sees a light:
-  // one more probe through that point says whether the image is seen there (not hidden): a thin lensed arc.
+  auto dark = [&](int x, int y) {  // none of pixel (x, y)'s lattice points sees a light
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i)
+        if (hit[size_t(2 * y + j) * LW + size_t(2 * x + i)].light != 0) return false;
+    return true;
+  };
+  // A light's image point (images: light_image_points) in a dark pixel: one more probe through that point says
+  // whether the image is seen there (not hidden): a thin lensed arc.
   std::vector<size_t> arc_pixels;
   std::vector<ProbeHit> arc_hit;
   if (edges && !images.empty()) {
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) {
         const size_t c = size_t(y) * W + size_t(x);
-        if (std::isnan(images[2 * c])) continue;
-        bool dark = true;
-        for (int j = 0; j < 3 && dark; ++j)
-          for (int i = 0; i < 3 && dark; ++i) dark = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)].light == 0;
-        if (dark) arc_pixels.push_back(c);
+        if (!std::isnan(images[2 * c]) && dark(x, y)) arc_pixels.push_back(c);
       }
-    arc_hit.resize(arc_pixels.size());
-    RenderStats st;
-    auto make = [&](size_t k, SampleScheduler<M, S>* sched) {
-      const size_t c = arc_pixels[k];
-      return probe(images[2 * c], images[2 * c + 1], st, sched, arc_hit[k]);
-    };
-    run_samples<M, S>(m, o.batch, arc_pixels.size(), make);
-    stats.add(st);
+    cancelled = !run_probes(arc_pixels.size(), [&](size_t k, double& x, double& y) {
+      x = images[2 * arc_pixels[k]];
+      y = images[2 * arc_pixels[k] + 1];
+    }, arc_hit);
+    if (cancelled) return classes;
   }
-  // A pixel on a hole's shadow edge (some of its lattice probes fall in, some do not) none of whose lattice probes
-  // sees a light: kRimProbes^2 more probes inside it look for the lights' thin images of higher order that crowd
-  // there (in Kerr the lamp's image of order 2 round fig10d's hole, a twentieth of a pixel wide at 48 x 36).
+  // A dark pixel on a hole's shadow edge (some of its lattice probes fall in, some do not): kRimProbes^2 more
+  // probes inside it look for the lights' thin images of higher order that crowd there (where no exact lens map
+  // gives their points: in Kerr the lamp's arcs of order 1 and 2 round fig10d's hole, covering 2-20 % of a pixel at
+  // 48 x 36, which the lattice missed).
   std::vector<size_t> rim_pixels;
   std::vector<ProbeHit> rim_hit;
+  constexpr int K = kRimProbes;
   if (edges) {
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) {
-        bool dark = true, in = false, out = false;
+        bool in = false, out = false;
         for (int j = 0; j < 3; ++j)
-          for (int i = 0; i < 3; ++i) {
-            const ProbeHit& h = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
-            dark = dark && h.light == 0;
-            (h.captured ? in : out) = true;
-          }
-        if (dark && in && out) rim_pixels.push_back(size_t(y) * W + size_t(x));
+          for (int i = 0; i < 3; ++i) (hit[size_t(2 * y + j) * LW + size_t(2 * x + i)].captured ? in : out) = true;
+        if (in && out && dark(x, y)) rim_pixels.push_back(size_t(y) * W + size_t(x));
       }
-    constexpr int K = kRimProbes;
-    rim_hit.resize(rim_pixels.size() * K * K);
-    RenderStats st;
-    auto make = [&](size_t k, SampleScheduler<M, S>* sched) {
+    cancelled = !run_probes(rim_pixels.size() * K * K, [&](size_t k, double& x, double& y) {
       const size_t c = rim_pixels[k / (K * K)];
       const int q = int(k % (K * K));
-      const double x = X0 + double(c % size_t(W)) + (q % K + 0.5) / K, y = Y0 + double(c / size_t(W)) + (q / K + 0.5) / K;
-      return probe(x, y, st, sched, rim_hit[k]);
-    };
-    run_samples<M, S>(m, o.batch, rim_hit.size(), make);
-    stats.add(st);
+      x = X0 + double(c % size_t(W)) + (q % K + 0.5) / K;
+      y = Y0 + double(c / size_t(W)) + (q / K + 0.5) / K;
+    }, rim_hit);
+    if (cancelled) return classes;
   }
   size_t next_arc = 0, next_rim = 0;
   for (int y = 0; y < H; ++y)
@@ -171,8 +175,8 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
         edge = edge || arc_hit[next_arc++].light != 0;
       }
       if (next_rim < rim_pixels.size() && rim_pixels[next_rim] == c) {
-        for (int q = 0; q < kRimProbes * kRimProbes; ++q) {
-          const ProbeHit& h = rim_hit[next_rim * kRimProbes * kRimProbes + size_t(q)];
+        for (int q = 0; q < K * K; ++q) {
+          const ProbeHit& h = rim_hit[next_rim * K * K + size_t(q)];
           seen = std::max(seen, double(h.radiance));
           edge = edge || h.light != 0;
         }
