@@ -22,7 +22,6 @@ from native_scenes import metric, room
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 
 
-
 def _lit_room(metric_spec, size):
     """The test room with the camera looking up at its ceiling lamp."""
     scene = room(metric_spec, size=size, spheres=False)
@@ -207,6 +206,19 @@ def _lamp_behind_a_hole(metric_spec) -> dict:
             "environment": {"color": [0, 0, 0]}}  # fmt: skip
 
 
+def _assert_edges_hold_the_lamp(edges, cover):
+    """Every pixel that sees the lamp over 2 % to 98 % of its area (cover: the fraction, per pixel) is an edge pixel,
+    and none farther than two pixels from where it is seen at all."""
+    partial = (cover > 0.02) & (cover < 0.98)
+    assert partial.sum() >= 10 and np.all(edges[partial])
+    lit = cover > 0.0
+    near = lit.copy()
+    for dy in range(-2, 3):
+        for dx in range(-2, 3):
+            near |= np.roll(np.roll(lit, dy, axis=0), dx, axis=1)
+    assert not np.any(edges & ~near)
+
+
 @pytest.mark.parametrize("metric_spec", [metric("schwarzschild", 0.1), metric("ellis", 0.4)],
                          ids=["schwarzschild", "ellis"])
 def test_the_lens_map_finds_a_lamps_thin_lensed_arcs(metric_spec):
@@ -218,14 +230,7 @@ def test_the_lens_map_finds_a_lamps_thin_lensed_arcs(metric_spec):
     scene = _lamp_behind_a_hole(metric_spec)
     edges = wv.render(scene, spp=1, max_depth=1).aovs["samples"] > 1
     cover = wv.render(scene, spp=4096, seed=3, max_depth=1, edge_samples=1).rgb[..., 0] / 100.0
-    partial = (cover > 0.02) & (cover < 0.98)
-    assert partial.sum() >= 10 and np.all(edges[partial])
-    lit = cover > 0.0
-    near = lit.copy()
-    for dy in range(-2, 3):
-        for dx in range(-2, 3):
-            near |= np.roll(np.roll(lit, dy, axis=0), dx, axis=1)
-    assert not np.any(edges & ~near)
+    _assert_edges_hold_the_lamp(edges, cover)
 
 
 def test_the_shadow_rim_probes_find_a_lamps_thin_arcs_in_kerr():
@@ -241,14 +246,7 @@ def test_the_shadow_rim_probes_find_a_lamps_thin_arcs_in_kerr():
     cover[4:24, 12:28] = wv.render(scene, spp=4096, seed=3, max_depth=1, edge_samples=1,
                                    crop=(12, 4, 16, 20)).rgb[..., 0] / 100.0
     assert cover[4:24, 12:28][[0, -1]].max() == 0.0 and cover[4:24, 12:28][:, [0, -1]].max() == 0.0
-    partial = (cover > 0.02) & (cover < 0.98)
-    assert partial.sum() >= 10 and np.all(edges[partial])
-    lit = cover > 0.0
-    near = lit.copy()
-    for dy in range(-2, 3):
-        for dx in range(-2, 3):
-            near |= np.roll(np.roll(lit, dy, axis=0), dx, axis=1)
-    assert not np.any(edges & ~near)
+    _assert_edges_hold_the_lamp(edges, cover)
 
 
 def test_the_shadow_rim_probes_find_the_lamps_arcs_in_the_kerr_room():
