@@ -111,10 +111,13 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
     y = Y0 + 0.5 * double(i / LW);
   }, hit);
   if (cancelled) return classes;
+  auto lattice = [&](int x, int y, int i, int j) -> const ProbeHit& {  // point (i, j) < 3 of pixel (x, y)'s nine
+    return hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
+  };
   auto dark = [&](int x, int y) {  // none of pixel (x, y)'s lattice points sees a light
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 3; ++i)
-        if (hit[size_t(2 * y + j) * LW + size_t(2 * x + i)].light != 0) return false;
+        if (lattice(x, y, i, j).light != 0) return false;
     return true;
   };
   // A light's image point (images: light_image_points) in a dark pixel: one more probe through that point says
@@ -145,7 +148,7 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
       for (int x = 0; x < W; ++x) {
         bool in = false, out = false;
         for (int j = 0; j < 3; ++j)
-          for (int i = 0; i < 3; ++i) (hit[size_t(2 * y + j) * LW + size_t(2 * x + i)].captured ? in : out) = true;
+          for (int i = 0; i < 3; ++i) (lattice(x, y, i, j).captured ? in : out) = true;
         if (in && out && dark(x, y)) rim_pixels.push_back(size_t(y) * W + size_t(x));
       }
     cancelled = !run_probes(rim_pixels.size() * K * K, [&](size_t k, double& x, double& y) {
@@ -159,12 +162,12 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
   size_t next_arc = 0, next_rim = 0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      const ProbeHit& h0 = hit[size_t(2 * y) * LW + size_t(2 * x)];
+      const ProbeHit& h0 = lattice(x, y, 0, 0);
       bool edge = edges && h0.light == kProbeMixed, detail = false;
       double seen = 0.0;  // the brightest emitter its points see
       for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
-          const ProbeHit& h = hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
+          const ProbeHit& h = lattice(x, y, i, j);
           edge = edge || (edges && h.light != h0.light);  // (h0 is not mixed here, so a mixed point differs)
           detail = detail || (details && h.shape != h0.shape);
           seen = std::max(seen, double(h.radiance));
