@@ -134,6 +134,10 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  choices=("lens", "images", "aimed"), flag="--light-connection"),  # fmt: skip
     RenderOption("lens_images", "int", 2, "Image orders the lens connection samples (1: the direct image, 2: "
                  "also round the far side, ...).", lo=1, hi=4),  # fmt: skip
+    RenderOption("lens_focus", "bool", True, "Curved space, with the lens connection: draw half of a light's "
+                 "points about where the hole focuses it onto the vertex (behind the centre, as densely as the lens "
+                 "magnifies them; the floor under a hole with a lamp above it is lit by the lamp's magnified ring) "
+                 "and the rest by area (still unbiased)."),  # fmt: skip
     RenderOption("camera_light_samples", "bool", True, "Static spherical metrics, with the lens connection: in the "
                  "pixels where a light's or a star's lensed image is small (a far sun, a thin arc round a hole, "
                  "stars) the camera draws light samples of its own through the exact lens map."),  # fmt: skip

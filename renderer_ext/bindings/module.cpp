@@ -335,6 +335,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   }
   o.lens_images = option<int>(options, "lens_images");
   o.camera_light_samples = option<bool>(options, "camera_light_samples");
+  o.lens_focus = option<bool>(options, "lens_focus");
   o.light_roulette = option<double>(options, "light_roulette");
   {
     const std::string ps = option<std::string>(options, "pixel_sampler");

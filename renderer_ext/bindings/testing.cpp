@@ -182,6 +182,25 @@ wv::ProxyMass kerr_proxy_mass(double mass, double spin) {
   return wv::ProxyMass(mass, wv::V3{0.0, 0.0, a}, [&](double c) { return wv::kerr_critical_mass(mass, a, c); });
 }
 
+// A planar light: a quad (corner p0, edges p1, p2; r_out 0) or a disk (centre p0, orthonormal axes p1, p2, radii
+// r_in, r_out).
+wv::PlanarLight planar_light_of(F64In p0, F64In p1, F64In p2, double r_in, double r_out) {
+  const auto a = copy1(p0, 3, "p0"), b = copy1(p1, 3, "p1"), c = copy1(p2, 3, "p2");
+  wv::PlanarLight L;
+  if (r_out > 0.0) {
+    L.is_disk = true;
+    L.disk.center = {a[0], a[1], a[2]};
+    L.disk.axis_u = {b[0], b[1], b[2]};
+    L.disk.axis_v = {c[0], c[1], c[2]};
+    L.disk.normal = wv::normalize(wv::cross(L.disk.axis_u, L.disk.axis_v));
+    L.disk.r_in = r_in;
+    L.disk.r_out = r_out;
+  } else {
+    L.quad = wv::make_quad({a[0], a[1], a[2]}, {b[0], b[1], b[2]}, {c[0], c[1], c[2]});
+  }
+  return L;
+}
+
 }  // namespace
 
 void bind_testing(nb::module_& m) {
@@ -458,20 +477,7 @@ void bind_testing(nb::module_& m) {
   m.def(
       "proposal_light_draws",
       [](F64In p0, F64In p1, F64In p2, double r_in, double r_out, double margin, double share, int n) {
-        const auto a = copy1(p0, 3, "p0"), b = copy1(p1, 3, "p1"), c = copy1(p2, 3, "p2");
-        wv::PlanarLight L;
-        if (r_out > 0.0) {  // a disk: centre p0, axes p1, p2 (orthonormal)
-          L.is_disk = true;
-          L.disk.center = {a[0], a[1], a[2]};
-          L.disk.axis_u = {b[0], b[1], b[2]};
-          L.disk.axis_v = {c[0], c[1], c[2]};
-          L.disk.normal = wv::normalize(wv::cross(L.disk.axis_u, L.disk.axis_v));
-          L.disk.r_in = r_in;
-          L.disk.r_out = r_out;
-        } else {  // a quad: corner p0, edges p1, p2
-          L.quad = wv::make_quad({a[0], a[1], a[2]}, {b[0], b[1], b[2]}, {c[0], c[1], c[2]});
-        }
-        const wv::ProposalLight pl(L, margin, share);
+        const wv::ProposalLight pl(planar_light_of(p0, p1, p2, r_in, r_out), margin, share);
         std::vector<double> pts, dens, on;
         for (int i = 0; i < n; ++i)
           for (int j = 0; j < n; ++j) {
@@ -489,6 +495,32 @@ void bind_testing(nb::module_& m) {
       "ProposalLight) at the n x n grid of (u1, u2): points (n*n, 3), their density per unit area (n*n,), whether "
       "each is on the light (n*n,), the grown shape's area and the margin's share. A quad: corner p0, edges p1, p2 "
       "(r_out 0); a disk: centre p0, orthonormal axes p1, p2, radii r_in, r_out.");
+  m.def(
+      "lens_focus_draws",
+      [](double mass, F64In pos_a, F64In p0, F64In p1, F64In p2, double r_in, double r_out, int n, F64In at) {
+        const auto a = copy1(pos_a, 3, "pos_a");
+        const wv::LensFocus f(mass, {a[0], a[1], a[2]}, planar_light_of(p0, p1, p2, r_in, r_out));
+        std::vector<double> pts, dens, drawn, at_dens;
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j) {
+            wv::V3 x{NAN, NAN, NAN};
+            const bool ok = f.active() && f.point((i + 0.5) / n, (j + 0.5) / n, x);
+            pts.insert(pts.end(), {x.x, x.y, x.z});
+            dens.push_back(ok ? f.density(x) / f.share() : 0.0);
+            drawn.push_back(ok ? 1.0 : 0.0);
+          }
+        const auto q = copy1(at, at.ndim() == 1 ? at.shape(0) : 0, "at");
+        for (size_t i = 0; i + 2 < q.size(); i += 3)
+          at_dens.push_back(f.active() ? f.density({q[i], q[i + 1], q[i + 2]}) / f.share() : 0.0);
+        const size_t k = size_t(n) * size_t(n), m = at_dens.size();
+        return nb::make_tuple(to_numpy(std::move(pts), {k, 3}), to_numpy(std::move(dens), {k}),
+                              to_numpy(std::move(drawn), {k}), to_numpy(std::move(at_dens), {m}), f.share());
+      },
+      "mass"_a, "pos_a"_a, "p0"_a, "p1"_a, "p2"_a, "r_in"_a, "r_out"_a, "n"_a, "at"_a,
+      "Test hook: the lens focus of a light seen from A (integrators/lens_focus.h) drawn at the n x n grid of (u1, "
+      "u2): points (n*n, 3) (NaN where none is drawn), the focus's own density per unit area at each (n*n,), "
+      "whether each was drawn (n*n,), its density at the points `at` (m*3,) flattened, (m,), and its share of the "
+      "light's draws (0: inactive). The light as proposal_light_draws takes it.");
 }
 
 }  // namespace wv::bindings

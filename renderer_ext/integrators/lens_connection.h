@@ -31,6 +31,7 @@
 
 #include "core/trig.h"
 #include "core/vec3.h"
+#include "integrators/lens_focus.h"
 #include "integrators/lens_proposal.h"
 #include "integrators/segment.h"
 #include "scene/light.h"
@@ -320,11 +321,14 @@ class LensConnection {
   // With `proposal`, a metric with a lens proxy (Kerr) uses the proxy's connection as a proposal
   // (lens_proposal.h) where every light is planar, each light grown by the proposal's margin (`margin` false:
   // not grown), each orbit with the proxy's mass for its plane and sense (`plane_masses` false: the metric's).
+  // With `focus`, a share of each planar light's points is drawn about the lens's focus (lens_focus.h; the mass of
+  // the static metric's lens, or the proposal's), the rest by area.
   LensConnection(const M& m, const Scene& sc, int orders, bool proposal, bool margin = true,
-                 bool plane_masses = true)
+                 bool plane_masses = true, bool focus = true)
       : sc_(sc), orders_(std::clamp(orders, 1, LensImages::kMax)) {
     if constexpr (M::kStaticSpherical) {
       lens_ = m.spherical_lens();
+      focus_mass_ = lens_.throat ? 0.0 : std::max(0.0, -0.5 * lens_.a[1]);
     } else if constexpr (M::kLensProxy) {
       lens_ = m.lens_proxy();
       proposal_mass_ = lens_.cubic_mass();
@@ -335,7 +339,13 @@ class LensConnection {
                                 [&](double c) { return m.lens_proxy_mass(c); });
         const double own = margin ? m.lens_proxy_margin() : 0.0;
         for (int p : sc.lights) proposal_lights_.emplace_back(planar_light(sc, p), own);
+        focus_mass_ = proposal_mass_;
       }
+    }
+    if (!focus) focus_mass_ = 0.0;
+    for (int p : sc.lights) {
+      planar_.push_back(proposal_light(sc, p) ? planar_light(sc, p) : PlanarLight{});
+      planar_ok_.push_back(proposal_light(sc, p));
     }
   }
 
@@ -361,8 +371,15 @@ class LensConnection {
               double per) const {
     const int p = sc_.lights[li];
     if (proposal_) return sample_proposal(v, li, u1, u2, u3, w, pdf, target, per);
+    const LensFocus f = focus(v, li);
     LightPoint lp;
-    if (!sample_light_point(sc_, p, v.pos, u1, u2, lp)) return false;
+    const double q = f.share();
+    if (u1 < q) {  // about the focus
+      if (!f.point(u1 / q, u2, lp.pos) || !light_point_at(sc_, p, v.pos, lp.pos, lp)) return false;
+    } else if (!sample_light_point(sc_, p, v.pos, q > 0.0 ? (u1 - q) / (1.0 - q) : u1, u2, lp)) {
+      return false;
+    }
+    if (q > 0.0) lp.area = 1.0 / ((1.0 - q) / lp.area + f.density(lp.pos));
     LensImagePick pick(lens_, v, light(p, lp), orders_);
     if (!(pick.total > 0.0)) return false;
     const int k = pick_order(pick.weight, pick.n, pick.total, u3);
@@ -392,6 +409,8 @@ class LensConnection {
     if (proposal_) return p_light * proposal_pdf(v, w, li);
     LightPoint lp;
     if (!light_point_at(sc_, p, v.pos, x, lp)) return 0.0;
+    const LensFocus f = focus(v, li);
+    if (f.active()) lp.area = 1.0 / ((1.0 - f.share()) / lp.area + f.density(x));
     LensImagePick pick(lens_, v, light(p, lp), orders_);
     if (!(pick.total > 0.0)) return 0.0;
     for (int k = 0; k < pick.n; ++k) {  // nearest orders first: a BSDF direction is mostly the direct image
@@ -480,8 +499,15 @@ class LensConnection {
   bool sample_proposal(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf,
                        V3& target, double per) const {
     const ProposalLight& L = proposal_lights_[size_t(li)];
-    const V3 B = L.point(u1, u2);
-    const double area = 1.0 / L.density(B);
+    const LensFocus f = focus(v, li);
+    const double q = f.share();
+    V3 B;
+    if (u1 < q) {  // about the focus
+      if (!f.point(u1 / q, u2, B)) return false;
+    } else {
+      B = L.point(q > 0.0 ? (u1 - q) / (1.0 - q) : u1, u2);
+    }
+    const double area = 1.0 / ((1.0 - q) * L.density(B) + f.density(B));
     ProposalPicks pk(*this, v, li, B, area);
     if (!(pk.total > 0.0)) return false;
     const int k = pick_order(pk.weight, pk.n, pk.total, u3);
@@ -498,7 +524,8 @@ class LensConnection {
   double proposal_pdf(const LensVertex& v, V3 w, int li) const {
     const LightCrossing c = crossing(v, w, li);
     if (!c.ok) return 0.0;
-    const double area = 1.0 / proposal_lights_[size_t(li)].density(c.pos);
+    const LensFocus f = focus(v, li);
+    const double area = 1.0 / ((1.0 - f.share()) * proposal_lights_[size_t(li)].density(c.pos) + f.density(c.pos));
     ProposalPicks pk(*this, v, li, c.pos, area);
     if (!(pk.total > 0.0)) return 0.0;
     for (int k = 0; k < pk.n; ++k) {  // nearest orders first: a BSDF direction is mostly the direct image
@@ -508,6 +535,13 @@ class LensConnection {
         return pk.weight[k] / pk.total * jac / area;
     }
     return 0.0;
+  }
+
+  // The focus of light number li seen from v (lens_focus.h) over the outline its points are drawn from (the light;
+  // as a proposal, the light grown by its margin); inactive for a light that is not planar, or without a mass.
+  LensFocus focus(const LensVertex& v, int li) const {
+    if (!planar_ok_[size_t(li)] || !(focus_mass_ > 0.0)) return {};
+    return LensFocus(focus_mass_, v.pos, proposal_ ? proposal_lights_[size_t(li)].grown : planar_[size_t(li)]);
   }
 
   LensLight light(int p, const LightPoint& lp) const {
@@ -527,6 +561,9 @@ class LensConnection {
   double proposal_mass_ = 0.0;
   ProxyMass proxy_mass_;  // as a proposal: the proxy's mass by the orbit's plane and sense
   std::vector<ProposalLight> proposal_lights_;  // as a proposal: each light and its margin
+  double focus_mass_ = 0.0;                     // the mass whose focus draws light points (0: none)
+  std::vector<PlanarLight> planar_;             // each light, where planar (planar_ok_)
+  std::vector<bool> planar_ok_;
 };
 
 }  // namespace wv

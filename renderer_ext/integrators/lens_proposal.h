@@ -77,6 +77,23 @@ struct PlanarLight {
     return g;
   }
 
+  // Whether point x of its plane lies on it.
+  bool contains(V3 x) const {
+    if (!is_disk) {
+      const double s = dot(x - quad.corner, quad.du), r = dot(x - quad.corner, quad.dv);
+      return s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0;
+    }
+    const double rho2 = disk_radius2(disk, x);
+    return rho2 >= disk.r_in * disk.r_in && rho2 <= disk.r_out * disk.r_out;
+  }
+
+  // Its centre, and the radius of the smallest circle about it that holds it.
+  V3 centre() const { return is_disk ? disk.center : quad.corner + (quad.eu + quad.ev) * 0.5; }
+  double reach() const {
+    if (is_disk) return disk.r_out * std::sqrt(std::max(dot(disk.axis_u, disk.axis_u), dot(disk.axis_v, disk.axis_v)));
+    return 0.5 * std::max(length(quad.eu + quad.ev), length(quad.eu - quad.ev));
+  }
+
   // A point drawn uniformly by area from (u1, u2) in [0, 1)^2, as sample_light_point draws the prim's.
   V3 point(double u1, double u2) const {
     if (!is_disk) return quad.corner + quad.eu * u1 + quad.ev * u2;
@@ -161,14 +178,7 @@ struct ProposalLight {
     }
   }
 
-  bool on_light(V3 x) const {
-    if (!light.is_disk) {
-      const double s = dot(x - light.quad.corner, light.quad.du), r = dot(x - light.quad.corner, light.quad.dv);
-      return s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0;
-    }
-    const double rho2 = disk_radius2(light.disk, x);
-    return rho2 >= light.disk.r_in * light.disk.r_in && rho2 <= light.disk.r_out * light.disk.r_out;
-  }
+  bool on_light(V3 x) const { return light.contains(x); }
 
   // The density per unit area of the draws at point x of the grown shape.
   double density(V3 x) const { return on_light(x) ? (1.0 - q) / area_light : q / area_margin; }

@@ -97,7 +97,7 @@ class PathTracer {
 
   PathTracer(const M& m, const Scene& sc, const RenderOptions& o, Guiding g = {}, Caustics c = {})
       : sc_(sc), o_(o), camera_(m, sc.camera), filter_(o.filter, o.filter_radius), segments_(m, sc, o), lights_(m, sc, o, segments_.options()),
-        emission_(m, sc), lens_(m, sc, o.lens_images, o.light_connection == kLensConnection, o.light_margin),
+        emission_(m, sc), lens_(m, sc, o.lens_images, o.light_connection == kLensConnection, o.light_margin, true, o.lens_focus),
         camera_lights_(sc, o, camera_, lens_, !g.train), guide_(g.tree),
         train_(g.train), seed_(g.train ? g.seed : o.seed), caustics_(c), point_frames_(point_light_frames(m, sc)),
         pixel_angle_(2.0 * std::tan(sc.camera.fov * M_PI / 360.0) / std::max(1, sc.camera.height)) {

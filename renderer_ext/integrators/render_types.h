@@ -50,6 +50,7 @@ struct RenderOptions {
   bool light_margin = false;  // ... and enlarge quad and disk proxies by that shift (lensed images are larger)
   int light_connection = kLensConnection;
   int lens_images = 0;  // lens connection: image orders sampled (0 direct, 1 round the far side, 2 a winding, ...)
+  bool lens_focus = false;  // ... and a share of its light points drawn about the lens's focus (lens_focus.h)
   bool camera_light_samples = false;  // ... and the camera's own light samples where a light's image is small
   // ... and Russian roulette on its light samples: one whose estimate is below light_roulette times the
   // largest on its path so far is traced with probability estimate / threshold (0: every one is traced).

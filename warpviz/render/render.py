@@ -81,6 +81,7 @@ def render(
     tol: float | None = None,
     light_connection: str | None = None,
     lens_images: int | None = None,
+    lens_focus: bool | None = None,
     camera_light_samples: bool | None = None,
     light_roulette: float | None = None,
     pixel_sampler: str | None = None,
@@ -159,6 +160,13 @@ def render(
         Image orders the lens connection samples, 1-4 (default 2: the direct image and the one round the
         far side of the hole; each further order is ~e^(-2 pi) dimmer). Higher orders are found by BSDF
         sampling alone.
+    lens_focus : bool, optional, keyword-only
+        In curved space, with the lens connection: draw half of the points on a quad or disk light about the
+        point of its plane straight behind the hole as seen from the vertex, where the lens magnifies the
+        light without bound (an Einstein ring), as densely as a point lens magnifies them, and the rest
+        uniformly by area (default True; unbiased either way). The floor under a hole with a lamp above it,
+        lit by the lamp's magnified ring, is then several times less noisy (fig07's direct light: 0.6x the
+        error).
     camera_light_samples : bool, optional, keyword-only
         In a static spherical metric seen by a static camera, with the lens connection and the box filter:
         in the pixels where a light's lensed image is small (a sun far away, a lamp's thin arc round a hole
@@ -351,7 +359,8 @@ def render(
     overrides = {"spp": spp, "seed": seed, "light_sampling": light_sampling, "max_depth": max_depth,
                  "stepper": stepper, "tol": tol, "aim_lights": aim_lights,
                  "light_connection": light_connection, "lens_images": lens_images,
-                 "camera_light_samples": camera_light_samples, "light_roulette": light_roulette,
+                 "lens_focus": lens_focus, "camera_light_samples": camera_light_samples,
+                 "light_roulette": light_roulette,
                  "pixel_sampler": pixel_sampler, "edge_samples": edge_samples, "detail_samples": detail_samples,
                  "filter": filter,
                  "filter_radius": filter_radius, "light_margin": light_margin, "pilot_tol": pilot_tol,
