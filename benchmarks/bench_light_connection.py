@@ -19,6 +19,8 @@ line_element_kerr_newman (Kerr-Newman from its line element), each rendered with
                     (``photons_per_pixel=0``; the scenes ask for 0.3 per pixel),
 * ``lens, no camera lights`` (the static spherical rooms) the same without the camera's own light samples
                     in the pixels where a light's image is small (``camera_light_samples=False``),
+* ``lens, no focus`` (the rooms round a mass) the same with every light point drawn by area (``lens_focus=False``;
+                    the default draws half of them about where the hole focuses the light onto the vertex),
 * ``lens, no roulette`` the same with every light sample traced (``light_roulette=0``; the default plays
                     Russian roulette with the light samples of a path's dim vertices),
 * ``lens, no edge`` the same with ``edge_samples=1`` (every pixel gets spp samples),
@@ -77,6 +79,7 @@ ESTIMATORS = {
                       "guide_training": 0, "photons_per_pixel": 0.0},
     "lens, no photons": {"photons_per_pixel": 0.0},  # the rooms' caustics by photons (0.3 per pixel) off
     "lens, no camera lights": {"camera_light_samples": False},  # the camera's own light samples off
+    "lens, no focus": {"lens_focus": False},  # every light point drawn by area
     "lens, no roulette": {"light_roulette": 0.0},  # every light sample traced
     "brute": {"light_sampling": False, "guide_training": 0, "photons_per_pixel": 0.0},
     "brute, jitter": {"light_sampling": False, "pixel_sampler": "independent", "guide_training": 0,
@@ -93,6 +96,7 @@ ROOMS = {"fig07": False, "fig10d": False, "fig12": False, "fig13": False, "line_
 ONLY_IN = {"images": {"fig10d", "line_element_kerr_newman"}, "lens, unguided": {"fig12"},
            "lens, guided": {"fig07", "fig10d", "fig13"},
            "lens, no photons": {"fig07", "fig10d", "line_element_kerr_newman"},
+           "lens, no focus": {"fig07", "fig10d", "line_element_kerr_newman"},  # (Ellis: no mass, no focus)
            "lens, no camera lights": {"fig07", "fig12", "fig13"}}  # (static spherical rooms: elsewhere the same)
 
 
