@@ -9,8 +9,15 @@ the integrated one at the same seed and spp (the same paths: their difference is
 not noise; the mean and the median pixel). The rooms' caustics by photons are left out
 (``photons_per_pixel=0``): this is the camera paths' cost.
 
-Usage: ``python benchmarks/bench_gravity_cost.py [--quick] [--rooms fig07,fig10d] [--reps 3] [--out DIR]``;
-writes ``gravity_cost.csv`` into ``--out`` (default ``benchmarks/results``) and prints the table.
+With ``--efficiency`` it measures instead gravity's cost in efficiency (issue 37's second target): each room
+rendered flat and curved with its defaults (photons included) at 48 x 36, 16 spp, one thread, over ``--seeds``
+seeds (the two variants alternating), each against its own reference (``--ref-spp`` samples in two halves whose
+noise is subtracted, as the light-connection benchmark does); efficiency = 1 / (relative MSE x CPU seconds), and
+the cost is the flat room's efficiency over the curved one's. Writes ``gravity_efficiency.csv``.
+
+Usage: ``python benchmarks/bench_gravity_cost.py [--quick] [--rooms fig07,fig10d] [--reps 3] [--out DIR]``
+(``--efficiency [--seeds 8] [--ref-spp 1024]``); writes ``gravity_cost.csv`` into ``--out`` (default
+``benchmarks/results``) and prints the table.
 """
 
 from __future__ import annotations
@@ -25,7 +32,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import warpviz as wv  # noqa: E402
-from _common import RESULTS, machine_line, source_version, write_csv  # noqa: E402
+from _common import RESULTS, Reference, machine_line, timed, write_csv  # noqa: E402
 
 ROOMS = {"fig07": "fig07_schwarzschild_cornell", "fig10d": "fig10d_kerr_cornell_a09"}
 VARIANTS = ("flat", "integrate", "closed_form")
@@ -63,22 +70,67 @@ def run(room: str, *, size: tuple[int, int], spp: int, reps: int) -> list[dict]:
     return rows
 
 
+def efficiency(room: str, *, size: tuple[int, int], spp: int, seeds: int, ref_spp: int) -> list[dict]:
+    """Gravity's cost in efficiency: the room flat and curved (its defaults), each against its own reference."""
+    scene = wv.load_scene(Path(__file__).resolve().parents[1] / "scenes" / f"{ROOMS[room]}.toml")
+    kw = {"width": size[0], "height": size[1]}
+    refs = {}
+    for flat in (True, False):
+        half = [wv.render(scene, spp=ref_spp // 2, seed=10_000 + k, flat=flat, progress=None, **kw).rgb
+                for k in range(2)]  # (every core: only the test renders are timed)
+        refs[flat] = Reference(half[0], half[1], ref_spp // 2)
+    err = {True: [], False: []}
+    cpu = {True: [], False: []}
+    for seed in range(seeds):
+        for flat in ((True, False) if seed % 2 == 0 else (False, True)):
+            img, t, _ = timed(lambda: wv.render(scene, spp=spp, seed=seed, flat=flat, threads=1, progress=None, **kw))
+            err[flat].append(refs[flat].rel_mse(img.rgb)[0])
+            cpu[flat].append(t)
+    rows = []
+    for flat in (True, False):
+        rel, t = float(np.mean(err[flat])), float(np.mean(cpu[flat]))
+        rows.append({"room": room, "variant": "flat" if flat else "curved", "width": size[0], "height": size[1],
+                     "spp": spp, "seeds": seeds, "reference_spp": ref_spp, "rel_mse": rel, "cpu_s": t,
+                     "efficiency": 1.0 / (rel * t)})
+    for r in rows:
+        r["flat_over_this"] = rows[0]["efficiency"] / r["efficiency"]
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="tiny frames for a smoke test (seconds)")
     parser.add_argument("--rooms", default="fig07,fig10d", help=f"comma-separated, of {', '.join(ROOMS)}")
     parser.add_argument("--reps", type=int, default=None, help="alternating repetitions (default 3; quick 1)")
     parser.add_argument("--out", type=Path, default=RESULTS, help="output folder (default benchmarks/results)")
+    parser.add_argument("--efficiency", action="store_true",
+                        help="gravity's cost in efficiency (error x time) instead of time per sample")
+    parser.add_argument("--seeds", type=int, default=None, help="--efficiency: seeds per variant (default 8; quick 2)")
+    parser.add_argument("--ref-spp", type=int, default=None,
+                        help="--efficiency: the references' samples per pixel (default 1024; quick 32)")
     args = parser.parse_args(argv)
     rooms = [r.strip() for r in args.rooms.split(",") if r.strip()]
     unknown = [r for r in rooms if r not in ROOMS]
     if unknown:
         parser.error(f"unknown room(s) {', '.join(unknown)}; choose from {', '.join(ROOMS)}")
+    if args.efficiency:
+        size, spp = ((12, 9), 4) if args.quick else ((48, 36), 16)
+        seeds = args.seeds or (2 if args.quick else 8)
+        ref_spp = args.ref_spp or (32 if args.quick else 1024)
+        rows = [row for room in rooms for row in efficiency(room, size=size, spp=spp, seeds=seeds, ref_spp=ref_spp)]
+        path = write_csv(args.out / "gravity_efficiency.csv", rows)
+        print(machine_line(threads=1))
+        print(f"{'room':8} {'variant':8} {'rel MSE':>9} {'cpu s':>7} {'efficiency':>11} {'flat / this':>12}")
+        for r in rows:
+            print(f"{r['room']:8} {r['variant']:8} {r['rel_mse']:9.4f} {r['cpu_s']:7.3f} {r['efficiency']:11.1f} "
+                  f"{r['flat_over_this']:12.2f}")  # fmt: skip
+        print(f"wrote {path}")
+        return 0
     size, spp = ((12, 9), 2) if args.quick else ((96, 72), 16)
     reps = args.reps or (1 if args.quick else 3)
     rows = [row for room in rooms for row in run(room, size=size, spp=spp, reps=reps)]
     path = write_csv(args.out / "gravity_cost.csv", rows)
-    print(f"{machine_line(threads=1)}; source {source_version()}")
+    print(machine_line(threads=1))
     print(f"{'room':8} {'variant':12} {'us/sample min':>14} {'median':>8} {'/flat min':>10} {'median':>8} {'steps':>7}")
     for r in rows:
         print(f"{r['room']:8} {r['variant']:12} {r['us_per_sample_min']:14.2f} {r['us_per_sample_median']:8.2f} "

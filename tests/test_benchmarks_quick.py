@@ -334,6 +334,19 @@ def test_gravity_cost_benchmark_times_every_variant(tmp_path):
     assert float(rows["closed_form"]["median_pixel_rel_diff_vs_integrate"]) < 1e-4
 
 
+def test_gravity_cost_benchmark_measures_the_efficiency_cost(tmp_path):
+    import bench_gravity_cost
+
+    assert bench_gravity_cost.main(["--efficiency", "--quick", "--rooms", "fig07", "--out", str(tmp_path)]) == 0
+    rows = {r["variant"]: r for r in read_csv(tmp_path / "gravity_efficiency.csv")}
+    assert set(rows) == {"flat", "curved"}
+    for r in rows.values():
+        assert float(r["rel_mse"]) > 0 and float(r["cpu_s"]) > 0
+        assert float(r["efficiency"]) == pytest.approx(1.0 / (float(r["rel_mse"]) * float(r["cpu_s"])), rel=1e-6)
+    assert float(rows["flat"]["flat_over_this"]) == 1.0
+    assert float(rows["curved"]["flat_over_this"]) > 1.0  # curved space costs more per sample
+
+
 def test_benchmark_references_on_a_dask_cluster_are_the_local_ones_bit_for_bit(tmp_path):
     """--workers sends a sweep's references (and time-to-clean's timed renders) through the cluster: the
     same images, so the same results, as on this machine."""
