@@ -342,7 +342,7 @@ def test_gravity_cost_benchmark_measures_the_efficiency_cost(tmp_path):
     assert set(rows) == {"flat", "curved"}
     for r in rows.values():
         assert float(r["rel_mse"]) > 0 and float(r["cpu_s"]) > 0
-        assert float(r["efficiency"]) == pytest.approx(1.0 / (float(r["rel_mse"]) * float(r["cpu_s"])), rel=1e-6)
+        assert float(r["efficiency"]) == pytest.approx(1.0 / (float(r["rel_mse"]) * float(r["cpu_s"])), rel=1e-4)  # (the CSV keeps 6 digits)
     assert float(rows["flat"]["flat_over_this"]) == 1.0
     assert float(rows["curved"]["flat_over_this"]) > 1.0  # curved space costs more per sample
 
