@@ -118,26 +118,27 @@ def main(argv: list[str] | None = None) -> int:
         seeds = args.seeds or (2 if args.quick else 8)
         ref_spp = args.ref_spp or (32 if args.quick else 1024)
         rows = [row for room in rooms for row in efficiency(room, size=size, spp=spp, seeds=seeds, ref_spp=ref_spp)]
-        path = write_csv(args.out / "gravity_efficiency.csv", rows)
-        print(machine_line(threads=1))
-        print(f"{'room':8} {'variant':8} {'rel MSE':>9} {'cpu s':>7} {'efficiency':>11} {'flat / this':>12}")
-        for r in rows:
-            print(f"{r['room']:8} {r['variant']:8} {r['rel_mse']:9.4f} {r['cpu_s']:7.3f} {r['efficiency']:11.1f} "
-                  f"{r['flat_over_this']:12.2f}")  # fmt: skip
-        print(f"wrote {path}")
-        return 0
+        header = f"{'room':8} {'variant':8} {'rel MSE':>9} {'cpu s':>7} {'efficiency':>11} {'flat / this':>12}"
+        line = "{room:8} {variant:8} {rel_mse:9.4f} {cpu_s:7.3f} {efficiency:11.1f} {flat_over_this:12.2f}"
+        return _report(rows, args.out / "gravity_efficiency.csv", header, line)
     size, spp = ((12, 9), 2) if args.quick else ((96, 72), 16)
     reps = args.reps or (1 if args.quick else 3)
     rows = [row for room in rooms for row in run(room, size=size, spp=spp, reps=reps)]
-    path = write_csv(args.out / "gravity_cost.csv", rows)
+    header = f"{'room':8} {'variant':12} {'us/sample min':>14} {'median':>8} {'/flat min':>10} {'median':>8} {'steps':>7}"
+    line = ("{room:8} {variant:12} {us_per_sample_min:14.2f} {us_per_sample_median:8.2f} {over_flat_min:10.2f} "
+            "{over_flat_median:8.2f} {steps_per_sample:7.1f}")
+    return _report(rows, args.out / "gravity_cost.csv", header, line)
+
+
+def _report(rows: list[dict], path: Path, header: str, line: str) -> int:
+    """Write the rows to ``path`` (CSV) and print them under the machine's line, one ``line.format(**row)`` each."""
+    path = write_csv(path, rows)
     print(machine_line(threads=1))
-    print(f"{'room':8} {'variant':12} {'us/sample min':>14} {'median':>8} {'/flat min':>10} {'median':>8} {'steps':>7}")
+    print(header)
     for r in rows:
-        print(f"{r['room']:8} {r['variant']:12} {r['us_per_sample_min']:14.2f} {r['us_per_sample_median']:8.2f} "
-              f"{r['over_flat_min']:10.2f} {r['over_flat_median']:8.2f} {r['steps_per_sample']:7.1f}")  # fmt: skip
+        print(line.format(**r))
     print(f"wrote {path}")
     return 0
-
 
 if __name__ == "__main__":
     sys.exit(main())
