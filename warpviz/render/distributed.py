@@ -222,8 +222,11 @@ class TiledPasses:
         # Scattered under a key of this render's own (hash=False): under the content's hash a second render of
         # the same scene reuses the key of the first, and when the first render's future is released as the
         # second scatters, the scheduler can forget the data the second's tasks need ("lost dependencies",
-        # dask/distributed#8576: seen here as a rare failure of consecutive renders of one scene).
-        [self.native] = client.scatter([native], hash=False)
+        # dask/distributed#8576: seen here as a rare failure of consecutive renders of one scene). On every worker
+        # (broadcast): scattered to one, the scene died with it when that worker was killed and the tasks that
+        # needed it were forgotten ("lost scattered data, which can't be recovered": a rare failure of the test
+        # that kills a worker mid-render); a copy on each survives the loss of any of them.
+        [self.native] = client.scatter([native], hash=False, broadcast=True)
         self.threads = sum(client.nthreads().values()) * max(1, int(options["threads"]))
         self._run = uuid.uuid4().hex[:8]
         self._pass = 0
