@@ -59,6 +59,7 @@ namespace wv {
 // of that direction (CameraConnection::shot_weight).
 struct CameraShot {
   V3 w;
+  V3 target;  // (a light's) the point drawn on it, user frame
   int prim = -1;
   double rho = 0.0;
   bool sky = false;  // a star's, of the sky of `sheet`
@@ -178,12 +179,16 @@ class CameraConnection {
   // direction with density s.rho; the weight is the camera ray's own rho for that direction, from what the ray
   // met (rho, star_rho), so the two strategies' weights add up to one for every direction even where the traced
   // ray strays from the lens map's (the integrator's error, amplified e^(2 pi) a winding at the higher orders):
-  // rho_c / (s.rho (1 + rho_c)). 0 unless the ray met what it was drawn for (that light, anywhere on it; that
-  // sky, anywhere on it).
+  // rho_c / (s.rho (1 + rho_c)). 0 unless the ray met what it was drawn for: that light at the point drawn
+  // (hit_aim: the image of a sphere's point round the hole, or one grazing its limb, reaches the point from a side
+  // the sphere itself hides, and the ray first hits another of its points, whose own draws already bring that
+  // direction: counted for both, a sphere lamp seen through a hole came out 10 % too bright), or that sky anywhere
+  // on it.
   double shot_weight(int px, int py, const CameraShot& s, const SegmentEnd& e) const {
     double rc = 0.0;
     if (s.sky && e.status == kEscaped && e.sheet == s.sheet) rc = star_rho(px, py, s.w, e.sheet);
-    if (!s.sky && e.status == kHit && e.prim == s.prim) rc = rho(px, py, s.w, e.prim, e.pos);
+    if (!s.sky && e.status == kHit && e.prim == s.prim && hit_aim(e.pos, s.target))
+      rc = rho(px, py, s.w, e.prim, e.pos);
     return rc > 0.0 ? rc / (s.rho * (1.0 + rc)) : 0.0;
   }
 
@@ -245,7 +250,7 @@ class CameraConnection {
       if (!cam_.pixel_of(rays.ray[k].w, x, y) || int(std::floor(x)) != px || int(std::floor(y)) != py) continue;
       const double rho = density(rays, rays.ray[k], lp, pl);
       if (!(rho > 0.0)) continue;
-      out[n++] = {rays.ray[k].w, p, rho};
+      out[n++] = {rays.ray[k].w, lp.pos, p, rho};
     }
     return n;
   }

@@ -44,6 +44,11 @@ namespace wv {
 // 1 - cos of 1e-3 rad: a traced ray is the image it follows to ~1e-6 rad, and distinct images lie far apart.
 inline constexpr double kLensMatchCos = 5e-7;
 
+// Whether a ray aimed through the lens map at light point `target` (user frame) first hit x there: a traced ray
+// lands on its aim to the integrator's tolerance; a ray that hits the light elsewhere first (the near side of a
+// sphere in front of the point it aimed at) is another point's sample, whose density is not this one's.
+inline bool hit_aim(V3 x, V3 target) { return length(x - target) <= 1e-4 * (1.0 + length(target)); }
+
 // What the lens connection needs of a diffuse vertex.
 struct LensVertex {
   V3 pos;           // user frame
@@ -394,7 +399,7 @@ class LensConnection {
   // proposal: that light, anywhere).
   bool light_sample_hits(const SegmentEnd& le, int p, V3 target) const {
     if (proposal_) return le.status == kHit && le.prim == p;
-    return le.status == kHit && le.prim == p && length(le.pos - target) <= 1e-4 * (1.0 + length(target));
+    return le.status == kHit && le.prim == p && hit_aim(le.pos, target);
   }
 
   // Solid-angle pdf with which the light strategy at v draws local direction w whose geodesic first hits
