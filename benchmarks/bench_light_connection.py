@@ -21,6 +21,8 @@ line_element_kerr_newman (Kerr-Newman from its line element), each rendered with
                     in the pixels where a light's image is small (``camera_light_samples=False``),
 * ``lens, no focus`` (the rooms round a mass) the same with every light point drawn by area (``lens_focus=False``;
                     the default draws half of them about where the hole focuses the light onto the vertex),
+* ``lens, unstratified`` (fig07, fig10d) the same with each bounce's light point and BSDF direction drawn
+                    independently (``stratified_paths=False``; the default stratifies them over a pixel's samples),
 * ``lens, no roulette`` the same with every light sample traced (``light_roulette=0``; the default plays
                     Russian roulette with the light samples of a path's dim vertices),
 * ``lens, no edge`` the same with ``edge_samples=1`` (every pixel gets spp samples),
@@ -80,6 +82,7 @@ ESTIMATORS = {
     "lens, no photons": {"photons_per_pixel": 0.0},  # the rooms' caustics by photons (0.3 per pixel) off
     "lens, no camera lights": {"camera_light_samples": False},  # the camera's own light samples off
     "lens, no focus": {"lens_focus": False},  # every light point drawn by area
+    "lens, unstratified": {"stratified_paths": False},  # light points and directions drawn independently
     "lens, no roulette": {"light_roulette": 0.0},  # every light sample traced
     "brute": {"light_sampling": False, "guide_training": 0, "photons_per_pixel": 0.0},
     "brute, jitter": {"light_sampling": False, "pixel_sampler": "independent", "guide_training": 0,
@@ -97,6 +100,7 @@ ONLY_IN = {"images": {"fig10d", "line_element_kerr_newman"}, "lens, unguided": {
            "lens, guided": {"fig07", "fig10d", "fig13"},
            "lens, no photons": {"fig07", "fig10d", "line_element_kerr_newman"},
            "lens, no focus": {"fig07", "fig10d", "line_element_kerr_newman"},  # (Ellis: no mass, no focus)
+           "lens, unstratified": {"fig07", "fig10d"},
            "lens, no camera lights": {"fig07", "fig12", "fig13"}}  # (static spherical rooms: elsewhere the same)
 
 

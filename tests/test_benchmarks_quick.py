@@ -212,7 +212,7 @@ def test_denoise_benchmark_quick_mode(tmp_path):
 
     rows = bench_denoise.main(["--quick", "--out", str(tmp_path)])
     table = read_csv(tmp_path / "denoise.csv")
-    assert [int(r["spp"]) for r in table] == [1, 4] == [r["spp"] for r in rows]
+    assert [int(r["spp"]) for r in table] == [1, 16] == [r["spp"] for r in rows]
     for r in rows:
         assert r["cpu_s_render"] > 0 and r["cpu_s_denoise"] > 0 and r["noisy_rel_mse"] > 0
         assert r["noisy_rel_mse_equal_time"] < r["noisy_rel_mse"]

@@ -147,8 +147,13 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  "probability contribution / threshold and weighted by the inverse (still unbiased); 0 traces "
                  "every one.", lo=0.0, hi=1e3),  # fmt: skip
     RenderOption("pixel_sampler", "choice", "sobol", "Where a camera sample falls in its pixel: 'sobol' "
-                 "(stratified, Owen-scrambled Sobol) or 'independent' (uniform jitter).",
+                 "(stratified, Owen-scrambled Sobol; with stratified_paths its light points and directions too) or "
+                 "'independent' (uniform jitter, and every random number independent).",
                  choices=("sobol", "independent")),  # fmt: skip
+    RenderOption("stratified_paths", "bool", True, "With the 'sobol' pixel sampler: each bounce's light point and "
+                 "BSDF direction are stratified over the pixel's samples too, as its camera points are (a pair of "
+                 "Owen-scrambled Sobol dimensions each, shuffled apart); false: drawn independently. Unbiased "
+                 "either way."),  # fmt: skip
     RenderOption("edge_samples", "int", None, "Samples per pixel, as a multiple of spp, in the pixels a light's "
                  "edge crosses, seen directly or in mirrors and glass, and those that see a light in glass by "
                  "some samples' Fresnel choice only (found by probe rays before rendering, so the image stays "

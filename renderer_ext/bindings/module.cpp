@@ -336,6 +336,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.lens_images = option<int>(options, "lens_images");
   o.camera_light_samples = option<bool>(options, "camera_light_samples");
   o.lens_focus = option<bool>(options, "lens_focus");
+  o.stratified_paths = option<bool>(options, "stratified_paths");
   o.light_roulette = option<double>(options, "light_roulette");
   {
     const std::string ps = option<std::string>(options, "pixel_sampler");

@@ -275,6 +275,15 @@ void bind_testing(nb::module_& m) {
       },
       "seed"_a, "pixel"_a, "n"_a, "Test hook: the first n stratified points (n, 2) of a pixel (core/sobol.h).");
   m.def(
+      "padded_samples",
+      [](uint64_t seed, uint64_t pixel, uint64_t dim, int n) {
+        std::vector<double> out(2 * size_t(std::max(n, 0)));
+        for (int i = 0; i < n; ++i) wv::padded_sample(seed, pixel, dim, uint64_t(i), out[2 * i], out[2 * i + 1]);
+        return to_numpy(std::move(out), {size_t(std::max(n, 0)), 2});
+      },
+      "seed"_a, "pixel"_a, "dim"_a, "n"_a,
+      "Test hook: the first n points (n, 2) of a pixel's pair of dimensions number dim >= 1 (core/sobol.h).");
+  m.def(
       "filter_samples",
       [](int kind, double radius, F64In u) {
         const auto uv = copy1(u, u.ndim() == 1 ? u.shape(0) : 0, "u");

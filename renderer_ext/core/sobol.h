@@ -43,16 +43,33 @@ inline uint32_t sobol1(uint32_t i) {
   return r;
 }
 
+inline uint64_t pixel_key(uint64_t seed, uint64_t pixel) { return mix64(seed ^ mix64(pixel + 0x9e3779b97f4a7c15ULL)); }
+
+// Point i of the scrambled (0, 2)-sequence with the two coordinates' scrambles keyed by `key`.
+inline void scrambled_point(uint32_t i, uint64_t key, double& x, double& y) {
+  const uint32_t a = owen(reverse_bits(i), uint32_t(key));
+  const uint32_t b = owen(sobol1(i), uint32_t(key >> 32));
+  x = (double(a) + 0.5) * 0x1.0p-32;
+  y = (double(b) + 0.5) * 0x1.0p-32;
+}
 }  // namespace detail
 
 // The sample-th stratified point of pixel `pixel` in [0, 1)^2.
 inline void pixel_sample(uint64_t seed, uint64_t pixel, uint64_t sample, double& x, double& y) {
-  const uint64_t key = mix64(seed ^ mix64(pixel + 0x9e3779b97f4a7c15ULL));
-  const uint32_t i = uint32_t(sample);
-  const uint32_t a = detail::owen(detail::reverse_bits(i), uint32_t(key));
-  const uint32_t b = detail::owen(detail::sobol1(i), uint32_t(key >> 32));
-  x = (double(a) + 0.5) * 0x1.0p-32;
-  y = (double(b) + 0.5) * 0x1.0p-32;
+  detail::scrambled_point(uint32_t(sample), detail::pixel_key(seed, pixel), x, y);
+}
+
+// The sample-th point of the pixel's stratified pair of dimensions number `dim` (>= 1; pixel_sample's camera point
+// is pair 0) in [0, 1)^2: the same scrambled (0, 2)-sequence, scrambled apart for each pair, its index shuffled by
+// a nested uniform scramble of its own (Burley, "Practical Hash-based Owen Scrambling", 2020: "padding"). The
+// shuffle keeps every aligned block of 2^k indices together (bit j of the shuffled index is bit j of the index
+// flipped by a function of the bits above it), so the first 2^k samples of a pair are still a (0, k, 2)-net, while
+// the pairs of one sample are decorrelated: unshuffled, every pair's first coordinate would take its top bit from
+// the index's lowest bit, and the pairs would be coupled along a diagonal.
+inline void padded_sample(uint64_t seed, uint64_t pixel, uint64_t dim, uint64_t sample, double& x, double& y) {
+  const uint64_t key = mix64(detail::pixel_key(seed, pixel) ^ mix64(dim + 0xd1b54a32d192ed03ULL));
+  const uint32_t i = detail::owen(uint32_t(sample), uint32_t(mix64(key)));
+  detail::scrambled_point(i, key, x, y);
 }
 
 }  // namespace wv

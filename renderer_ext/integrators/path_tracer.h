@@ -13,8 +13,10 @@
 // Elsewhere the direction comes from a proxy (flat-space, pilot-aimed, or Kerr's image proxies:
 // light_connection.h) that is a density over directions, and both strategies count whatever emission
 // their geodesic reaches first. Either way the weights sum to one for every direction and the estimator
-// is unbiased. Camera samples fall at the pixel's stratified points (core/sobol.h) or uniform jitter.
-// Russian roulette ends long paths. Every random number comes from Rng(seed, pixel, sample). With path
+// is unbiased. Camera samples fall at the pixel's stratified points (core/sobol.h) or uniform jitter, and
+// with stratified paths each bounce's light point and BSDF direction at a pair of stratified dimensions of its
+// own (path_pair). Russian roulette ends long paths. Every random number is a function of (seed, pixel, sample):
+// those pairs, and the rest from Rng(seed, pixel, sample). With path
 // guiding (guide_tree.h), half of a diffuse vertex's directions come from a tree trained before the render
 // (guide_training.h, by this tracer's own paths with a training seed) and the mixture's pdf is the BSDF
 // strategy's in every weight.
@@ -211,6 +213,23 @@ class PathTracer {
     return camera_.direction_sample(px, py, jx, jy, filter_, weight);
   }
 
+  // Two uniform numbers for the path's pair of dimensions number `dim`: with stratified paths (the Sobol pixel
+  // sampler and o_.stratified_paths), the pair's point for this sample (core/sobol.h, padded_sample; pair 0 is the
+  // camera's point), so that a pixel's samples spread their light points and directions over their squares as
+  // they spread their camera points over the pixel; else the path's generator's next two.
+  void path_pair(const PathState& ps, int dim, Rng& rng, double& u1, double& u2) const {
+    if (o_.stratified_paths && o_.pixel_sampler == kSobolPixels) {
+      padded_sample(seed_, size_t(ps.py) * sc_.camera.width + size_t(ps.px), uint64_t(dim), uint64_t(ps.s), u1, u2);
+    } else {
+      u1 = rng.uniform();
+      u2 = rng.uniform();
+    }
+  }
+  // The pairs of bounce b (path_pair): its light sample's point, then its BSDF direction (a guided vertex's
+  // mixture, and every choice among lobes, lights and images, draw from the path's generator).
+  static int light_pair(int bounce) { return 1 + 2 * bounce; }
+  static int bsdf_pair(int bounce) { return 2 + 2 * bounce; }
+
   // The camera's own light sample for sample s of pixel (px, py) (camera_connection.h), from random numbers of
   // its own (the path's are those of a pixel without it): a point on a light, and the ray of each of its images
   // that lands in the pixel traced from the camera; one that hits that light adds its emission weighted by the
@@ -266,7 +285,8 @@ class PathTracer {
       // numbers as the aimed connection draws, so a vanishing mass reproduces its (flat) paths.
       double u3, per;
       const int li = choose_light(ps.select, rng, u3, per);
-      const double u1 = rng.uniform(), u2 = rng.uniform();
+      double u1, u2;
+      path_pair(ps, light_pair(bounce), rng, u1, u2);
       if (li >= int(sc_.lights.size())) {
         co_await sample_point_light(e, mat, albedo, n, wo, bounce, li, per, u3, ps, st, frames, sched);
         co_return;
@@ -292,7 +312,8 @@ class PathTracer {
     co_await lights_.aim(e, sp.normal, wo, st, frames, sched, aimed);
     double u3, per;  // (u3: the image, where a light has several)
     const int li = choose_light(ps.select, rng, u3, per);
-    const double u1 = rng.uniform(), u2 = rng.uniform();
+    double u1, u2;
+    path_pair(ps, light_pair(bounce), rng, u1, u2);
     if (li >= int(sc_.lights.size())) {
       co_await sample_point_light(e, mat, albedo, n, wo, bounce, li, per, u3, ps, st, frames, sched);
       co_return;
@@ -628,8 +649,9 @@ class PathTracer {
       if (leaf >= 0) {
         bs = guided_sample(mat, albedo, n, wo, leaf, rng);
       } else {
-        const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
-        bs = bsdf_sample(mat, albedo, n, wo, u1, u2, u3);
+        double u1, u2;
+        path_pair(ps, bsdf_pair(bounce), rng, u1, u2);
+        bs = bsdf_sample(mat, albedo, n, wo, u1, u2, rng.uniform());
       }
       if (ps.guide) ps.guide->last_is_prev = false;
       if (!bs.valid) break;

@@ -56,6 +56,7 @@ struct RenderOptions {
   // largest on its path so far is traced with probability estimate / threshold (0: every one is traced).
   double light_roulette = 0.0;
   int pixel_sampler = kSobolPixels;
+  bool stratified_paths = false;  // with kSobolPixels: each bounce's light point and BSDF direction too
   // Pixels on the edge of a light seen directly or in mirrors and glass, or seeing one in glass by some
   // samples' Fresnel choice only, get edge_samples x spp samples: the lamp's edge inside a pixel (a lensed
   // lamp's thin arcs) and its reflection in glass are noise no light connection touches.
