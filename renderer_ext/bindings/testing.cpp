@@ -508,7 +508,8 @@ void bind_testing(nb::module_& m) {
       "lens_focus_draws",
       [](double mass, F64In pos_a, F64In p0, F64In p1, F64In p2, double r_in, double r_out, int n, F64In at) {
         const auto a = copy1(pos_a, 3, "pos_a");
-        const wv::LensFocus f(mass, {a[0], a[1], a[2]}, planar_light_of(p0, p1, p2, r_in, r_out));
+        const wv::PlanarLight light = planar_light_of(p0, p1, p2, r_in, r_out);
+        const wv::LensFocus f(mass, {a[0], a[1], a[2]}, light);
         std::vector<double> pts, dens, drawn, at_dens;
         for (int i = 0; i < n; ++i)
           for (int j = 0; j < n; ++j) {

@@ -348,10 +348,9 @@ class LensConnection {
       }
     }
     if (!focus) focus_mass_ = 0.0;
-    for (int p : sc.lights) {
-      planar_.push_back(proposal_light(sc, p) ? planar_light(sc, p) : PlanarLight{});
-      planar_ok_.push_back(proposal_light(sc, p));
-    }
+    if (focus_mass_ > 0.0 && !proposal_)  // (a proposal's focus draws over its grown lights)
+      for (int p : sc.lights)
+        planar_.push_back(proposal_light(sc, p) ? std::optional<PlanarLight>(planar_light(sc, p)) : std::nullopt);
   }
 
   const SphericalLens& lens() const { return lens_; }
@@ -545,8 +544,10 @@ class LensConnection {
   // The focus of light number li seen from v (lens_focus.h) over the outline its points are drawn from (the light;
   // as a proposal, the light grown by its margin); inactive for a light that is not planar, or without a mass.
   LensFocus focus(const LensVertex& v, int li) const {
-    if (!planar_ok_[size_t(li)] || !(focus_mass_ > 0.0)) return {};
-    return LensFocus(focus_mass_, v.pos, proposal_ ? proposal_lights_[size_t(li)].grown : planar_[size_t(li)]);
+    if (!(focus_mass_ > 0.0)) return {};
+    if (proposal_) return LensFocus(focus_mass_, v.pos, proposal_lights_[size_t(li)].grown);
+    const std::optional<PlanarLight>& L = planar_[size_t(li)];
+    return L ? LensFocus(focus_mass_, v.pos, *L) : LensFocus{};
   }
 
   LensLight light(int p, const LightPoint& lp) const {
@@ -567,8 +568,7 @@ class LensConnection {
   ProxyMass proxy_mass_;  // as a proposal: the proxy's mass by the orbit's plane and sense
   std::vector<ProposalLight> proposal_lights_;  // as a proposal: each light and its margin
   double focus_mass_ = 0.0;                     // the mass whose focus draws light points (0: none)
-  std::vector<PlanarLight> planar_;             // each light, where planar (planar_ok_)
-  std::vector<bool> planar_ok_;
+  std::vector<std::optional<PlanarLight>> planar_;  // (a static metric's focus) each light, where planar
 };
 
 }  // namespace wv

@@ -52,8 +52,8 @@ class LensFocus {
   // The focus of light L (its drawn outline: the light, or the Kerr proposal's grown light) seen from vertex a
   // (user frame, the centre at the origin) by a lens of mass `mass` (0: none): inactive where the line from a
   // through the centre meets L's plane before the centre or not at all, or farther than kFocusReach Einstein radii
-  // from L.
-  LensFocus(double mass, V3 a, const PlanarLight& L) : L_(L) {
+  // from L. L must outlive the focus (it keeps a pointer: the connection's own lights; not a temporary).
+  LensFocus(double mass, V3 a, const PlanarLight& L) : L_(&L) {
     if (!(mass > 0.0)) return;
     const V3 n = L.normal();
     const double den = dot(a, n);  // a + s (0 - a) meets the plane at s = (a - origin) . n / (a . n)
@@ -91,6 +91,8 @@ class LensFocus {
     share_ = span_ > 0.0 ? kFocusShare : 0.0;
   }
 
+  LensFocus(double, V3, PlanarLight&&) = delete;  // (a temporary light would dangle)
+
   bool active() const { return share_ > 0.0; }
   double share() const { return share_; }
 
@@ -118,9 +120,10 @@ class LensFocus {
     const V3 v = x - centre_;
     const double rho = length(v);
     if (!(rho > 0.0)) return 0.0;
-    double t = std::atan2(dot(v, e2_), dot(v, e1_)) - t0_;
-    if (span_ >= kTwoPi) t = 0.0;
-    if (t < 0.0 || t > span_) return 0.0;
+    if (span_ < kTwoPi) {  // (all round B* inside the light: every angle is drawn)
+      const double t = std::atan2(dot(v, e2_), dot(v, e1_)) - t0_;
+      if (t < 0.0 || t > span_) return 0.0;
+    }
     double a[2], b[2];
     const int k = parts(v / rho, a, b);
     double total = 0.0;
@@ -163,7 +166,7 @@ class LensFocus {
   // The parts [a, b] (in Einstein radii) of the ray from B* along unit direction d that lie on the light.
   int parts(V3 d, double a[2], double b[2]) const {
     double lo[2], hi[2];
-    const int n = L_.clip(centre_, d, lo, hi);
+    const int n = L_->clip(centre_, d, lo, hi);
     int k = 0;
     for (int i = 0; i < n; ++i) {
       if (!(hi[i] > 0.0)) continue;
@@ -174,7 +177,7 @@ class LensFocus {
     return k;
   }
 
-  PlanarLight L_;
+  const PlanarLight* L_ = nullptr;
   V3 centre_, e1_, e2_;
   double rho_e_ = 0.0, t0_ = 0.0, span_ = 0.0, share_ = 0.0;
 };
