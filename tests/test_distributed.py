@@ -112,6 +112,27 @@ def test_a_worker_killed_mid_render_still_gives_the_whole_image(cluster2, local_
     client.wait_for_workers(2, timeout=60)
 
 
+def test_a_worker_killed_mid_resume_still_gives_the_whole_image(cluster2, tmp_path):
+    """A resumed render's tiles start from the saved film: after its first pass one worker is killed, and the
+    lost tiles' passes run again from the films the scheduler keeps in their first tasks (scattered to one worker
+    each, they were lost with it)."""
+    cl, client = cluster2
+    killed = []
+
+    def kill_one(report):  # (after the resumed render's first pass, whatever its count of passes)
+        if not killed:
+            pid = next(iter(client.run(os.getpid).values()))
+            os.kill(pid, signal.SIGKILL)
+            killed.append(pid)
+
+    part = wv.render("fig07", **SMALL, spp=2, threads=2).save(tmp_path / "part.exr")
+    resumed = wv.render("fig07", **SMALL, spp=6, client=client, tile=8, resume=part, on_pass=kill_one)
+    assert killed and resumed.completed and resumed.metadata["spp"] == 6
+    local = wv.render("fig07", **SMALL, spp=6, threads=2, resume=part)
+    np.testing.assert_array_equal(resumed.rgb, local.rgb)
+    client.wait_for_workers(2, timeout=60)
+
+
 def test_ctrl_c_keeps_the_finished_passes(cluster2):
     _, client = cluster2
     calls = []
@@ -237,11 +258,13 @@ def test_a_film_on_the_cluster_is_the_local_film(cluster2, tmp_path):
         np.testing.assert_array_equal(a.rgb, b.rgb)
 
 
-def test_each_render_scatters_its_scene_and_films_under_keys_of_its_own(cluster2):
+def test_each_render_scatters_its_scene_under_a_key_of_its_own_and_hands_films_to_its_tasks(cluster2):
     """Scattered under the content's hash, two renders of one scene would share the scene's key, and a first
     render's future released as the second scatters makes the scheduler forget the data the second's tasks
     need: they fail with "lost dependencies" (dask/distributed#8576; a scatter, submit and release of the same
-    scene in a loop fails so nearly every time). So each render scatters under keys of its own."""
+    scene in a loop fails so nearly every time). So each render scatters its scene under a key of its own. A
+    resumed film's tiles are not scattered at all: they go to the first pass's tasks as their arguments, which the
+    scheduler keeps (scattered to one worker each, a killed worker lost them for good)."""
     from warpviz.render.distributed import TiledPasses
 
     _, client = cluster2
@@ -253,4 +276,6 @@ def test_each_render_scatters_its_scene_and_films_under_keys_of_its_own(cluster2
     from warpviz.render.resume import film_from_image
 
     part = film_from_image(film, [])
-    assert {f.key for f in a._start(part)}.isdisjoint(f.key for f in b._start(part))
+    states = a._start(part)
+    assert all(isinstance(t, dict) for t in states) and len(states) == len(a.tiles) == 4
+    assert sum(int(t["film"]["samples"].sum()) for t in states) == int(part["samples"].sum()) >= 8 * 6

@@ -250,7 +250,10 @@ class TiledPasses:
             part["x0"], part["y0"] = x, y
             self._samples[len(states)] = int(part["samples"].sum())
             states.append({"film": part, "pixel_classes": None})
-        return tuple(self.client.scatter(states, hash=False))  # (as the scene: a key of this render's own)
+        # Handed to the first pass's tasks as their arguments, not scattered: scattered, each tile's film lived on
+        # one worker only, and a worker killed while its tiles' later passes still needed them lost them for good
+        # ("lost scattered data"); in the tasks, the scheduler keeps them and can run a lost pass again from them.
+        return tuple(states)
 
     def expect(self, begin: int, sizes: list[int]) -> None:
         """The passes :func:`~warpviz.render.passes.run_passes` will ask for from sample ``begin`` (a render
