@@ -140,5 +140,6 @@ def _report(rows: list[dict], path: Path, header: str, line: str) -> int:
     print(f"wrote {path}")
     return 0
 
+
 if __name__ == "__main__":
     sys.exit(main())

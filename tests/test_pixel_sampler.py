@@ -11,15 +11,19 @@ from native_scenes import metric, room
 from test_render import _image_means, assert_same_mean
 
 
+def assert_net(pts, k):
+    """The 2^k points (2^k, 2) lie in [0, 1)^2, one in each box of every elementary shape 2^j x 2^(k - j)."""
+    n = 2**k
+    assert pts.shape == (n, 2) and (pts >= 0).all() and (pts < 1).all()
+    for j in range(k + 1):
+        cells = np.floor(pts[:, 0] * 2**j).astype(int) * 2 ** (k - j) + np.floor(pts[:, 1] * 2 ** (k - j)).astype(int)
+        assert np.bincount(cells, minlength=n).tolist() == [1] * n
+
+
 @pytest.mark.parametrize("k", [2, 4, 6, 8])
 def test_every_power_of_two_prefix_is_a_net(k):
-    n = 2**k
     for pixel in (0, 17, 123456):
-        pts = testing.pixel_samples(5, pixel, n)
-        assert pts.shape == (n, 2) and (pts >= 0).all() and (pts < 1).all()
-        for j in range(k + 1):  # boxes of 2^j x 2^(k - j)
-            cells = np.floor(pts[:, 0] * 2**j).astype(int) * 2 ** (k - j) + np.floor(pts[:, 1] * 2 ** (k - j)).astype(int)
-            assert np.bincount(cells, minlength=n).tolist() == [1] * n
+        assert_net(testing.pixel_samples(5, pixel, 2**k), k)
 
 
 def test_pixels_and_seeds_are_scrambled_apart():
@@ -57,13 +61,8 @@ def test_pixel_sampler_is_validated():
 def test_every_power_of_two_prefix_of_a_padded_pair_is_a_net(k):
     """A bounce's pair of dimensions (core/sobol.h, padded_sample): its index shuffle keeps aligned blocks of 2^k
     together, so the first 2^k samples of every pair are still a (0, k, 2)-net."""
-    n = 2**k
     for pixel, dim in ((0, 1), (17, 2), (123456, 9)):
-        pts = testing.padded_samples(5, pixel, dim, n)
-        assert pts.shape == (n, 2) and (pts >= 0).all() and (pts < 1).all()
-        for j in range(k + 1):
-            cells = np.floor(pts[:, 0] * 2**j).astype(int) * 2 ** (k - j) + np.floor(pts[:, 1] * 2 ** (k - j)).astype(int)
-            assert np.bincount(cells, minlength=n).tolist() == [1] * n
+        assert_net(testing.padded_samples(5, pixel, dim, 2**k), k)
 
 
 def _joint_cells(a, b, bits=2):
