@@ -604,6 +604,22 @@ def test_the_proxy_mass_follows_the_plane_and_keeps_the_area_jacobian():
     assert checked > 20 and min(masses) < 0.95 and max(masses) > 1.0  # lighter and heavier than the metric
 
 
+def test_bsdf_samples_that_the_light_strategy_cannot_draw_are_counted():
+    """The render's stats (render_types.h, RenderStats): `light_hits` counts the BSDF samples at diffuse vertices that
+    reach a lamp's lit side where a light sample was drawn too, `unsampled_light_hits` those of them whose direction the
+    light strategy could not have drawn (its pdf 0: each comes at full weight, the fireflies MIS cannot tame). In flat
+    space it draws every direction that reaches the lamp: none. Round a Schwarzschild hole the ceiling beside the lamp
+    (hung just below it) sees the lamp's lit face only round the hole: with the direct image alone (lens_images = 1)
+    those BSDF samples are unsampled, with orders 0 and 1 (the default) nearly none, with orders 0-3 fewer still."""
+    flat = wv.render(room(metric()), spp=64, seed=1, max_depth=2).stats
+    assert flat["light_hits"] > 200 and flat["unsampled_light_hits"] == 0
+    sc = room(metric("schwarzschild", 1.0))
+    one, two, four = (wv.render(sc, spp=64, seed=1, max_depth=2, lens_images=k).stats for k in (1, 2, 4))
+    assert min(one["light_hits"], two["light_hits"], four["light_hits"]) > 150
+    assert one["unsampled_light_hits"] >= 10
+    assert four["unsampled_light_hits"] <= two["unsampled_light_hits"] <= 0.2 * one["unsampled_light_hits"]
+
+
 def test_light_connection_options_are_validated():
     sc = room(metric("schwarzschild", 1.0), size=(4, 3))
     with pytest.raises(ValueError, match="light_connection must be one of 'lens', 'images', 'aimed', got 'exact'"):

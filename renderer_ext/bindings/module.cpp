@@ -448,6 +448,8 @@ nb::dict render(nb::dict scene, nb::dict options) {
   stats["photon_passes"] = r.photon_passes;
   stats["photons_stored"] = r.photons_stored;
   stats["steps"] = r.total_steps;
+  stats["light_hits"] = r.light_hits;
+  stats["unsampled_light_hits"] = r.unsampled_light_hits;
   stats["seconds"] = seconds;
   stats["threads"] = wv::resolve_threads(o.threads);
   out["stats"] = stats;

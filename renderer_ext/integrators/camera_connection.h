@@ -437,8 +437,8 @@ class CameraConnection {
         V3 dir;
         double flux;
         int n = 0;
-        double px[kOrders];
-        int order[kOrders];
+        double px[kOrders] = {};
+        int order[kOrders] = {};
       };
       std::vector<Cand> cand;
       for (int face = 0; face < 6; ++face)

@@ -107,7 +107,7 @@ class LensFocus {
     if (!(total > 0.0)) return false;
     double y = u1 * total;
     int i = 0;
-    while (i + 1 < k && y >= F(b[i]) - F(a[i])) y -= F(b[i]) - F(a[i++]);
+    for (; i + 1 < k && y >= F(b[i]) - F(a[i]); ++i) y -= F(b[i]) - F(a[i]);  // (i read, then moved on)
     const double f = std::min(F(a[i]) + y, F(b[i]));
     x = centre_ + d * (rho_e_ * std::sqrt(2.0 * f * f / (std::sqrt(1.0 + f * f) + 1.0)));  // u = F^-1(f)
     return true;

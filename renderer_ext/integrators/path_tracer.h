@@ -333,6 +333,13 @@ class PathTracer {
     add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
   }
 
+  // A BSDF sample at a vertex that also drew a light sample reached a light's lit side; pl: the light strategy's pdf
+  // of its direction (0: the full-weight samples of RenderStats::unsampled_light_hits).
+  static void count_light_hit(RenderStats& st, double pl) {
+    ++st.light_hits;
+    if (!(pl > 0.0)) ++st.unsampled_light_hits;
+  }
+
   // Russian roulette on a lens light sample before its geodesic is traced (o_.light_roulette > 0): a sample whose
   // contribution as far as it is known before tracing, beta f L_e / (pl + pb) with L_e the light's emission scale
   // (no redshift, no visibility), is below light_roulette times the largest such estimate on this path so far is
@@ -606,9 +613,11 @@ class PathTracer {
       if (ps.lens_prev) {
         const double pl = e.status == kHit ? lens_.pdf(ps.lens_v, ps.lens_w, e.prim, e.pos, ps.select) : 0.0;
         ps.mis = ps.lens_pb / (ps.lens_pb + pl);
+        if (e.status == kHit && max_component(Le) > 0.0) count_light_hit(st, pl);
       } else if (ps.aimed_prev && max_component(Le) > 0.0) {
         const double pl = lights_.lights_pdf(aimed, ps.aimed_w, ps.select);
         ps.mis = ps.aimed_pb / (ps.aimed_pb + pl);
+        if (e.status == kHit) count_light_hit(st, pl);
       }
       // A light seen directly in a pixel where the camera draws light samples of its own: the balance heuristic.
       if (bounce == 0 && camera_lights && max_component(Le) > 0.0) {

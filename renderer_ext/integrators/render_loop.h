@@ -336,6 +336,7 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
   std::atomic<int64_t> counts[6];
   for (int k = 0; k < 6; ++k) counts[k] = probes.counts[k];
   std::atomic<int64_t> steps{probes.steps}, segments{probes.segments};
+  std::atomic<int64_t> light_hits{probes.light_hits}, unsampled_light_hits{probes.unsampled_light_hits};
   constexpr size_t kChunk = 64;  // pixels per parallel task
   // parallel_for polls every 20 ms while a pass runs; passes shorter than that (photon passes of one sample on
   // a small image) poll between them instead, at the same rate, so progress moves and Ctrl-C stops the render.
@@ -383,6 +384,8 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
         if (st.counts[k]) counts[k] += st.counts[k];
       steps += st.steps;
       segments += st.segments;
+      light_hits += st.light_hits;
+      unsampled_light_hits += st.unsampled_light_hits;
     };
     if (!parallel_for(nchunks, o.threads, 1, body, poll) || stopped) {
       out.completed = false;
@@ -392,6 +395,8 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
   for (int k = 0; k < 6; ++k) out.status_counts[k] = counts[k].load();
   out.total_steps = steps.load();
   out.segments = segments.load();
+  out.light_hits = light_hits.load();
+  out.unsampled_light_hits = unsampled_light_hits.load();
   for (auto& r : rec)
     for (auto& seg : r) out.recorded.push_back(std::move(seg));
   return out;

@@ -146,11 +146,17 @@ struct RecordedSegment {
 struct RenderStats {
   int64_t counts[6] = {0, 0, 0, 0, 0, 0};
   int64_t steps = 0, segments = 0;
+  // BSDF samples at diffuse vertices that reached a light's lit side where the light strategy also sampled, and
+  // those of them that the light strategy could not have drawn (its pdf 0 there: an image order it does not sample,
+  // a Kerr image its proxy misses): brought at full weight, the fireflies MIS cannot tame.
+  int64_t light_hits = 0, unsampled_light_hits = 0;
 
   void add(const RenderStats& o) {
     for (int k = 0; k < 6; ++k) counts[k] += o.counts[k];
     steps += o.steps;
     segments += o.segments;
+    light_hits += o.light_hits;
+    unsampled_light_hits += o.unsampled_light_hits;
   }
 };
 
@@ -160,6 +166,7 @@ struct RenderResult {
   int64_t status_counts[6] = {0, 0, 0, 0, 0, 0};  // geodesic segments by RayStatus
   int64_t total_steps = 0;
   int64_t segments = 0;
+  int64_t light_hits = 0, unsampled_light_hits = 0;  // (RenderStats)
   int64_t edge_pixels = 0;         // pixels given max(edge_samples, detail_samples) x spp samples (or more:)
   int64_t bright_edge_pixels = 0;  // ... those of them given kBrightEdgeFactor x that
   int64_t detail_pixels = 0;  // (other) pixels given detail_samples x spp samples

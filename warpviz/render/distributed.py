@@ -327,7 +327,7 @@ class TiledPasses:
         for r in ordered:
             stats = add_stats(stats, r["stats"],
                               summed=("segments", "steps", "edge_pixels", "bright_edge_pixels", "detail_pixels",
-                                      "photon_segments"))
+                                      "photon_segments", "light_hits", "unsampled_light_hits"))
         stats["seconds"] = time.perf_counter() - t0
         stats["threads"] = self.threads
         raw = {"completed": all(r["completed"] for r in ordered), "pixel_classes": None, "stats": stats,

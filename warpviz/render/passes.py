@@ -195,7 +195,8 @@ class PassesDone:
 
 
 def add_stats(total: dict, add: dict, *, summed: tuple[str, ...] = ("seconds", "segments", "steps", "photon_segments",
-                                                                     "photon_passes", "photons_stored")) -> dict:
+                                                                     "photon_passes", "photons_stored", "light_hits",
+                                                                     "unsampled_light_hits")) -> dict:
     """The core's statistics of two ranges (two passes, or two tiles of one pass) as one: the ``summed`` keys
     and nested counts added, the others (threads, edge and detail pixels of the same window) taken from ``add``."""
     out = dict(total)
