@@ -114,7 +114,7 @@ def _render(room: str, cfg: dict, *, spp: int, seed: int, max_depth: int | None 
     if max_depth is not None:
         kw["max_depth"] = max_depth
     img, cpu, _ = timed(lambda: wv.render(_scene(room), spp=spp, seed=seed, **kw, **options))
-    return img.rgb.astype(np.float64), cpu
+    return img.rgb.astype(np.float64), cpu, img.stats
 
 
 def reference(room: str, cfg: dict, *, max_depth: int | None = None, via: dict | None = None):
@@ -122,19 +122,24 @@ def reference(room: str, cfg: dict, *, max_depth: int | None = None, via: dict |
     no emitter directly (``via``: render keywords that send the halves to a Dask cluster). The halves are the
     path tracer's, without the scene's photons: unbiased (a photon render's bias is part of its error)."""
     half = {"spp": cfg["ref_spp"] // 2, "max_depth": max_depth, "via": via, **UNBIASED}
-    a, _ = _render(room, cfg, seed=100_001, **half)
-    b, _ = _render(room, cfg, seed=200_003, **half)
-    direct, _ = _render(room, cfg, spp=64, seed=7, max_depth=1, edge_samples=1)  # the camera segment alone
+    a, _, _ = _render(room, cfg, seed=100_001, **half)
+    b, _, _ = _render(room, cfg, seed=200_003, **half)
+    direct, _, _ = _render(room, cfg, spp=64, seed=7, max_depth=1, edge_samples=1)  # the camera segment alone
     ref = Reference(a, b, cfg["ref_spp"] // 2)
     return ref.image, ref.noise_map, direct.max(axis=2) <= 0.0
 
 
 def measure(room: str, cfg: dict, estimator: str, ref, noise, mask, *, max_depth: int | None = None) -> dict:
-    """Relative MSE (all pixels and emitter-free ones) and CPU time of one estimator, over cfg['seeds']."""
+    """Relative MSE (all pixels and emitter-free ones) and CPU time of one estimator, over cfg['seeds'], and the
+    BSDF samples that reached a light by a direction the light strategy cannot draw (the render's
+    ``unsampled_light_hits`` of its ``light_hits``, summed over the seeds)."""
     scale_all, scale_masked = float(ref.mean()) ** 2, float(ref[mask].mean()) ** 2
     mse_all, mse_masked, cpu = [], [], []
+    hits = unsampled = 0
     for seed in range(cfg["seeds"]):
-        img, t = _render(room, cfg, spp=cfg["spp"], seed=seed, max_depth=max_depth, **ESTIMATORS[estimator])
+        img, t, stats = _render(room, cfg, spp=cfg["spp"], seed=seed, max_depth=max_depth, **ESTIMATORS[estimator])
+        hits += stats["light_hits"]
+        unsampled += stats["unsampled_light_hits"]
         err = (img - ref) ** 2 - noise
         mse_all.append(max(float(err.mean()), 1e-30) / scale_all)
         mse_masked.append(max(float(err[mask].mean()), 1e-30) / scale_masked)
@@ -146,7 +151,7 @@ def measure(room: str, cfg: dict, estimator: str, ref, noise, mask, *, max_depth
             "cpu_s": t, "rel_mse": rel_all, "efficiency": 1.0 / (rel_all * t),
             "rel_mse_no_emitter_pixels": rel_masked, "efficiency_no_emitter_pixels": 1.0 / (rel_masked * t),
             "rel_rmse": math.sqrt(rel_all), "rel_rmse_no_emitter_pixels": math.sqrt(rel_masked),
-            "emitter_pixels": int((~mask).sum())}  # fmt: skip
+            "emitter_pixels": int((~mask).sum()), "light_hits": hits, "unsampled_light_hits": unsampled}  # fmt: skip
 
 
 def interleaved_time_ratio(room: str, cfg: dict, a: str, b: str, *, rounds: int) -> list[float]:

@@ -190,6 +190,8 @@ def test_light_connection_benchmark_quick_mode(tmp_path):
     assert "images" in only and "fig07" not in only["images"]
     for r in rows:
         assert r["cpu_s"] > 0 and r["rel_mse"] > 0 and r["efficiency"] > 0
+        assert 0 <= r["unsampled_light_hits"] <= r["light_hits"]
+        assert r["room"] != "fig07 flat" or r["unsampled_light_hits"] == 0  # (flat: every direction is drawn)
         if r["room"] == "fig07" and r["max_depth"] == "scene":
             assert r["over_brute"] > 0 and r["over_seed"] > 0 and r["flat_over_this"] > 0
 
