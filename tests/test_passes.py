@@ -159,6 +159,23 @@ def test_resume_refuses_another_scene_or_settings_before_any_work(tmp_path, args
     assert out.read_bytes() == before  # nothing written
 
 
+def test_resume_refuses_an_image_from_before_a_fix_that_changes_its_samples():
+    """resume.FIXES: a render records the renderer fixes it has (``settings["fixes"]``); an image written before one
+    that changes its render (fig12: a sphere lamp, the sun, with the camera's own light samples round the throat)
+    cannot be continued, one whose render the fix leaves alone can (fig07: quad lamps; fig12 without the camera's
+    light samples)."""
+    def from_before_the_fix(img):
+        img.metadata["resume"]["settings"].pop("fixes")
+        return img
+
+    old = from_before_the_fix(wv.render("fig12", **SMALL, spp=1, threads=2))
+    with pytest.raises(ValueError, match="before the camera's own light samples of a sphere lamp were fixed"):
+        wv.render("fig12", **SMALL, spp=2, threads=2, resume=old)
+    for room, kw in (("fig07", {}), ("fig12", {"camera_light_samples": False})):
+        img = from_before_the_fix(wv.render(room, **SMALL, spp=1, threads=2, **kw))
+        assert wv.render(room, **SMALL, spp=2, threads=2, resume=img, **kw).metadata["spp"] == 2
+
+
 def test_resume_refuses_a_foreign_or_missing_exr(tmp_path):
     import OpenEXR
 

@@ -30,7 +30,7 @@ import numpy as np
 from warpviz._native import core
 from warpviz.render.image import read_exr  # here too: resuming starts from one
 
-__all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "scene_sha256", "resume_settings", "read_exr", "saved_resume",
+__all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "FIXES", "scene_sha256", "resume_settings", "read_exr", "saved_resume",
            "resume_problem", "film_from_image", "sample_multiples"]
 
 #: The render options that decide what each sample adds (so a resumed image must have been rendered with
@@ -50,6 +50,23 @@ RESUME_SETTINGS = ("seed", "max_depth", "rr_depth", "light_sampling", "stepper",
 IMPLIED_SETTINGS = {"detail_samples": 1, "guide_training": 0, "photons": 0, "photons_per_pixel": 0.0,
                     "photon_radius": 2.0, "camera_light_samples": False, "light_roulette": 0.0, "lens_focus": False,
                     "stratified_paths": False}
+
+
+#: Renderer fixes that change what some samples add without a setting to name them: (tag, which renders they
+#: change, what was fixed). A render records the tags it has (``settings["fixes"]``); an image written before a
+#: fix that changes its render cannot be continued, since its samples and the new ones would disagree.
+FIXES = (("camera_light_hit_aim",
+          lambda s: bool(s.get("camera_light_samples")) and bool(s.get("sphere_lamps")) and s.get("metric") != "minkowski",
+          "the camera's own light samples of a sphere lamp were fixed (0b55c8c, 2026-12-07: a shot that reached the "
+          "lamp anywhere counted, so a sphere lamp seen round a hole came out up to 10 % too bright)"),)
+
+
+def _sphere_lamps(native: dict) -> bool:
+    """Whether the native scene has an emissive sphere."""
+    materials = native.get("materials", [])
+    return any(shape.get("type") == "sphere" and 0 <= int(shape.get("material", -1)) < len(materials)
+               and materials[int(shape["material"])].get("type") == "emissive"
+               for shape in native.get("shapes", []))  # fmt: skip
 
 
 def _digest(node, h) -> None:
@@ -90,6 +107,8 @@ def resume_settings(options: dict, native: dict) -> dict:
     out["size"] = [int(native["camera"]["width"]), int(native["camera"]["height"])]
     out["metric"] = native["metric"]["name"]
     out["metric_params"] = [float(p) for p in native["metric"].get("params", [])]
+    out["sphere_lamps"] = _sphere_lamps(native)
+    out["fixes"] = [tag for tag, _, _ in FIXES]
     return json.loads(json.dumps(out))
 
 
@@ -143,6 +162,10 @@ def resume_problem(img, *, settings: dict, sha256: str, aovs: list[str] | None, 
         where = f" ({Path(meta['scene']).name})" if meta.get("scene") else ""
         return (f"{name} was rendered from another scene{where}, or the scene has changed since: its objects, "
                 "camera or lights differ from this render's")  # fmt: skip
+    fixed = old.get("fixes", [])
+    for tag, changes, what in FIXES:
+        if tag not in fixed and changes(settings):
+            return f"{name} was rendered before {what}; its samples and new ones would disagree (render it again)"
     if aovs is not None:
         have = sorted(k for k in img.aovs if k not in ("errors", "samples", "variance"))
         if sorted(aovs) != have:
