@@ -30,8 +30,8 @@ import numpy as np
 from warpviz._native import core
 from warpviz.render.image import read_exr  # here too: resuming starts from one
 
-__all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "FIXES", "scene_sha256", "resume_settings", "read_exr", "saved_resume",
-           "resume_problem", "film_from_image", "sample_multiples"]
+__all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "FIXES", "scene_sha256", "resume_settings", "read_exr",
+           "saved_resume", "resume_problem", "film_from_image", "sample_multiples"]
 
 #: The render options that decide what each sample adds (so a resumed image must have been rendered with
 #: the same); spp, threads, batch (bit-identical either way), progress and the limits do not.
@@ -56,7 +56,7 @@ IMPLIED_SETTINGS = {"detail_samples": 1, "guide_training": 0, "photons": 0, "pho
 #: change, what was fixed). A render records the tags it has (``settings["fixes"]``); an image written before a
 #: fix that changes its render cannot be continued, since its samples and the new ones would disagree.
 FIXES = (("camera_light_hit_aim",
-          lambda s: bool(s.get("camera_light_samples")) and bool(s.get("sphere_lamps")) and s.get("metric") != "minkowski",
+          lambda s: bool(s.get("camera_light_samples") and s.get("sphere_lamps")) and s.get("metric") != "minkowski",
           "the camera's own light samples of a sphere lamp were fixed (0b55c8c, 2026-12-07: a shot that reached the "
           "lamp anywhere counted, so a sphere lamp seen round a hole came out up to 10 % too bright)"),)
 
