@@ -114,3 +114,20 @@ def test_falling_camera_demo_numbers():
     assert (round(math.degrees(static), 1), round(v, 3), round(math.degrees(falling), 1)) == (23.3, 0.408, 15.2)
     assert round(math.degrees(math.acos(23 / 31)), 1) == 42.1
     assert math.degrees(wv.Schwarzschild(mass=1.0).shadow_angle(r)) == pytest.approx(math.degrees(static), abs=1e-9)
+
+
+def test_speckles_come_from_light_turned_back_by_the_hole():
+    """docs/classroom.md, "When the picture speckles": the samples that found a lamp by chance where the light
+    samples could not have (stats["unsampled_light_hits"] of stats["light_hits"]): none in flat space, a few per
+    thousand in fig07, more than one per hundred in fig10d, whose ceiling they light (the lamp hangs below it)."""
+    def share(room, **kw):
+        hits = unsampled = 0
+        for seed in range(4):  # (fig07: ~10 such samples, fig10d ~45)
+            st = wv.render(room, width=48, height=36, spp=16, seed=seed, **kw).stats
+            hits, unsampled = hits + st["light_hits"], unsampled + st["unsampled_light_hits"]
+        assert hits > 2000
+        return unsampled / hits
+
+    assert share("fig07", flat=True) == 0.0
+    assert 0.0 < share("fig07") < 0.007
+    assert share("fig10d") > 0.01
