@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from warpviz._native import core
-from warpviz.render.passes import PASS_SAMPLES, add_stats, concat_rays
+from warpviz.render.passes import PASS_SAMPLES, SAMPLE_COUNTS, add_stats, concat_rays
 
 __all__ = ["DEFAULT_TILE", "LOOKAHEAD", "TileFilms", "TiledPasses", "check_workers", "cluster_client", "default_tile",
            "tile_windows"]
@@ -326,8 +326,7 @@ class TiledPasses:
         stats: dict = {}
         for r in ordered:
             stats = add_stats(stats, r["stats"],
-                              summed=("segments", "steps", "edge_pixels", "bright_edge_pixels", "detail_pixels",
-                                      "photon_segments", "light_hits", "unsampled_light_hits"))
+                              summed=(*SAMPLE_COUNTS, "edge_pixels", "bright_edge_pixels", "detail_pixels"))
         stats["seconds"] = time.perf_counter() - t0
         stats["threads"] = self.threads
         raw = {"completed": all(r["completed"] for r in ordered), "pixel_classes": None, "stats": stats,

@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = ["PASS_SAMPLES", "PassReport", "standard_pass", "next_pass", "noise_estimate", "run_passes", "PassesDone",
-           "add_stats", "concat_rays", "film_samples", "pass_plan"]  # fmt: skip
+           "add_stats", "SAMPLE_COUNTS", "concat_rays", "film_samples", "pass_plan"]  # fmt: skip
 
 #: At most this many samples over the image in one pass (~30 s of the fig07 room at 640x480 on 2 cores):
 #: Ctrl-C loses at most one pass, and a time budget is kept to within one.
@@ -194,9 +194,12 @@ class PassesDone:
     noise: float = math.nan
 
 
-def add_stats(total: dict, add: dict, *, summed: tuple[str, ...] = ("seconds", "segments", "steps", "photon_segments",
-                                                                     "photon_passes", "photons_stored", "light_hits",
-                                                                     "unsampled_light_hits")) -> dict:
+#: The core's counts of what its samples did (``stats``): they add up over passes and over tiles alike.
+SAMPLE_COUNTS = ("segments", "steps", "photon_segments", "light_hits", "unsampled_light_hits")
+
+
+def add_stats(total: dict, add: dict, *,
+              summed: tuple[str, ...] = ("seconds", *SAMPLE_COUNTS, "photon_passes", "photons_stored")) -> dict:
     """The core's statistics of two ranges (two passes, or two tiles of one pass) as one: the ``summed`` keys
     and nested counts added, the others (threads, edge and detail pixels of the same window) taken from ``add``."""
     out = dict(total)
