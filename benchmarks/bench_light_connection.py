@@ -17,6 +17,8 @@ line_element_kerr_newman (Kerr-Newman from its line element), each rendered with
                     proposal (``light_connection="images"``: the default before it),
 * ``lens, no photons`` (the rooms with a mirror and a glass ball) the same without their caustics by photons
                     (``photons_per_pixel=0``; the scenes ask for 0.3 per pixel),
+* ``lens, no retro`` (the same rooms) the photons for caustics only: the light the hole turns back by more
+                    than 120 degrees stays the path tracer's (``retro_photons=False``),
 * ``lens, no camera lights`` (the static spherical rooms) the same without the camera's own light samples
                     in the pixels where a light's image is small (``camera_light_samples=False``),
 * ``lens, no focus`` (the rooms round a mass) the same with every light point drawn by area (``lens_focus=False``;
@@ -80,6 +82,7 @@ ESTIMATORS = {
     "aimed, jitter": {"light_connection": "aimed", "pixel_sampler": "independent", "edge_samples": 1,
                       "guide_training": 0, "photons_per_pixel": 0.0},
     "lens, no photons": {"photons_per_pixel": 0.0},  # the rooms' caustics by photons (0.3 per pixel) off
+    "lens, no retro": {"retro_photons": False},  # the photons for caustics only, not for the light turned back
     "lens, no camera lights": {"camera_light_samples": False},  # the camera's own light samples off
     "lens, no focus": {"lens_focus": False},  # every light point drawn by area
     "lens, unstratified": {"stratified_paths": False},  # light points and directions drawn independently
@@ -99,6 +102,7 @@ ROOMS = {"fig07": False, "fig10d": False, "fig12": False, "fig13": False, "line_
 ONLY_IN = {"images": {"fig10d", "line_element_kerr_newman"}, "lens, unguided": {"fig12"},
            "lens, guided": {"fig07", "fig10d", "fig13"},
            "lens, no photons": {"fig07", "fig10d", "line_element_kerr_newman"},
+           "lens, no retro": {"fig07", "fig10d", "line_element_kerr_newman"},
            "lens, no focus": {"fig07", "fig10d", "line_element_kerr_newman"},  # (Ellis: no mass, no focus)
            "lens, unstratified": {"fig07", "fig10d"},
            "lens, no camera lights": {"fig07", "fig12", "fig13"}}  # (static spherical rooms: elsewhere the same)

@@ -367,6 +367,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   o.photons = option<int64_t>(options, "photons") +
               int64_t(std::llround(per_pixel * double(sc.camera.width) * double(sc.camera.height)));
   o.photon_radius = option<double>(options, "photon_radius");
+  o.retro_photons = option<bool>(options, "retro_photons");
   if (options.contains("guide") && !options["guide"].is_none()) {
     o.guide = guide_from(options["guide"]);
     if (o.guide->lights() != 0 && o.guide->lights() != sc.light_count())

@@ -305,7 +305,7 @@ class PathTracer {
       co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
                                  le, e.step);
       ps.close(le, e.sheet, bounce + 1, kLightSegment);
-      if (lens_.light_sample_hits(le, sc_.lights[li], target))
+      if (lens_.light_sample_hits(le, sc_.lights[li], target) && !retro_light(e, mat, wl, le))
         add_light(ps, e, li, ps.beta * f * emission_.emission(le) * (keep / (pl + pb)));
       co_return;
     }
@@ -330,7 +330,15 @@ class PathTracer {
     co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
                                le, e.step);
     ps.close(le, e.sheet, bounce + 1, kLightSegment);
-    add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
+    if (!retro_light(e, mat, wl, le)) add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
+  }
+
+  // Whether the light that reaches diffuse vertex e along direction w by segment le is the retro photons'
+  // (photon_tracer.h: a photon light's light the hole turned back), which the vertex gathers, so neither
+  // strategy brings it.
+  bool retro_light(const SegmentEnd& e, const Material& mat, V3 w, const SegmentEnd& le) const {
+    return caustics_.pass && mat.kind == MaterialKind::kDiffuse && le.status == kHit &&
+           caustics_.tracer->retro_segment(le.prim, w, le.dir);
   }
 
   // A BSDF sample at a vertex that also drew a light sample reached a light's lit side; pl: the light strategy's pdf
@@ -507,7 +515,8 @@ class PathTracer {
   V3 gather_photons(const SegmentEnd& e, V3 albedo, V3 wo, double path_length, int segments, bool first) const {
     const PhotonPass& pass = *caustics_.pass;
     const double footprint = o_.photon_radius * pixel_angle_ * path_length;
-    if (!(footprint > 0.0) || pass.map.size() == 0 || segments < 2) return {0, 0, 0};
+    // (a caustic photon came in two segments at least, one the hole turned back in one: retro_photons)
+    if (!(footprint > 0.0) || pass.map.size() == 0 || segments < (o_.retro_photons ? 1 : 2)) return {0, 0, 0};
     const V3 side = dot(wo, e.normal_local) >= 0.0 ? e.surface.normal : -e.surface.normal;
     auto usable = [&](const Photon& p) { return p.segments <= segments && dot(p.n_in, side) > 0.5; };
     const double reach =
@@ -592,6 +601,7 @@ class PathTracer {
     // Caustics by photons: every diffuse vertex gathers them, so the path tracer leaves out the emission of a
     // photon light reached from the last diffuse vertex through specular vertices only (`specular`).
     bool gathered = false, specular = false;
+    bool gathers = false;  // the segment leaves a vertex that gathered (retro light is the photons')
     double path_length = 0.0;  // user-frame distance along the path (vertex to vertex): the gather's footprint
     double first_step = camera_step_;  // where a segment's steps start: the camera's, then the last segment's last
 
@@ -610,11 +620,13 @@ class PathTracer {
       if (bounce == 0 && cam.shift != kShiftNone && e.status == kHit &&
           sc_.materials[sc_.prims[e.prim].material].beaming)
         L_own_shift = ps.beta * Le * ps.mis;
-      if (ps.lens_prev) {
+      // Light the hole turned back onto the vertex this segment left: the photons' (photon_tracer.h), not MIS's.
+      const bool retro = gathers && e.status == kHit && caustics_.tracer->retro_segment(e.prim, d, e.dir);
+      if (ps.lens_prev && !retro) {
         const double pl = e.status == kHit ? lens_.pdf(ps.lens_v, ps.lens_w, e.prim, e.pos, ps.select) : 0.0;
         ps.mis = ps.lens_pb / (ps.lens_pb + pl);
         if (e.status == kHit && max_component(Le) > 0.0) count_light_hit(st, pl);
-      } else if (ps.aimed_prev && max_component(Le) > 0.0) {
+      } else if (ps.aimed_prev && !retro && max_component(Le) > 0.0) {
         const double pl = lights_.lights_pdf(aimed, ps.aimed_w, ps.select);
         ps.mis = ps.aimed_pb / (ps.aimed_pb + pl);
         if (e.status == kHit) count_light_hit(st, pl);
@@ -624,7 +636,7 @@ class PathTracer {
         if (e.status == kHit) ps.mis = 1.0 / (1.0 + camera_lights_.rho(px, py, d, e.prim, e.pos));
         if (e.status == kEscaped) ps.mis = 1.0 / (1.0 + camera_lights_.star_rho(px, py, d, e.sheet));
       }
-      if (!(gathered && specular && e.status == kHit && caustics_.tracer->sends_photons(e.prim)))
+      if (!retro && !(gathered && specular && e.status == kHit && caustics_.tracer->sends_photons(e.prim)))
         ps.add_emission(Le);  // (else a caustic path: the photons')
       if (sharp) L_sharp = ps.L;
       if (e.status != kHit) break;
@@ -645,6 +657,7 @@ class PathTracer {
         ps.add(ps.beta * gather_photons(e, albedo, wo, path_length, o_.max_depth - (bounce + 1), !gathered));
         gathered = true;
       }
+      gathers = caustics_.pass && mat.kind == MaterialKind::kDiffuse;
       const bool nee = o_.light_sampling && !mat.is_delta() && sc_.light_count() > 0;
       const bool lens = nee && o_.light_connection != kAimedConnection && lens_.applies(e);
       // A diffuse vertex in a part of space where the guide saw light draws half its directions from it.

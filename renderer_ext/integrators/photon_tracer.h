@@ -2,7 +2,9 @@
 // segment by the camera paths' own segment tracer (segment.h: closed-form orbits, integrated steps, SIMD
 // lanes), through mirrors and glass, and stored where they first reach a diffuse surface after at least one
 // specular vertex (light -> specular+ -> diffuse: the caustic paths, which the path tracer finds only when
-// a BSDF direction happens to hit a light after a specular chain). In flat space and static spherical metrics
+// a BSDF direction happens to hit a light after a specular chain); with o.retro_photons also where they first
+// reach one straight from a light along a segment that turned by more than 120 degrees (light the hole turns
+// back, round the photon orbits: retro_segment). In flat space and static spherical metrics
 // (Schwarzschild, Reissner-Nordstrom, Ellis) the spatial path of light is the same traced either way in time,
 // so a backward segment along the emitted direction is the photon's path (closed forms included); in any other
 // (Kerr, metrics from a line element) the photon is integrated forward in time, its future-directed momentum
@@ -81,6 +83,16 @@ class PhotonTracer {
   // surfaces are the photons', so the path tracer leaves them out.
   bool sends_photons(int p) const { return p >= 0 && size_t(p) < emits_.size() && emits_[p]; }
   bool any_light() const { return !lights_.empty(); }
+
+  // The light a hole turns back (o.retro_photons): whether a segment that reached photon light `prim`, or left
+  // it, turned by more than 120 degrees between its ends (its directions of travel there, each in its local
+  // frame: the same for the geodesic traced either way). Such light reaches a diffuse surface round the photon
+  // orbits, where a light strategy without the spacetime's exact lens map (Kerr, line elements) cannot draw it;
+  // photons bring it instead, and the path tracer leaves it out in both strategies.
+  static constexpr double kRetroCos = -0.5;
+  bool retro_segment(int prim, V3 start, V3 end) const {
+    return o_.retro_photons && sends_photons(prim) && dot(start, end) < kRetroCos;
+  }
 
   // Pass j's photon map: o.photons photons traced in parallel, stored in photon order. False: cancelled.
   bool pass(int64_t j, const std::function<bool()>& poll, PhotonMap& map, RenderStats& stats) const {
@@ -202,6 +214,7 @@ class PhotonTracer {
                     Photon& out, char& stored) const {
     PathFrames<M> frames;
     int specular = 0;
+    const V3 d0 = d;  // the direction it left the light along
     double g = 1.0;  // nu at the segment's end over nu at the light
     double first_step = 0.0;  // the last segment's last step, where the next one starts (SegmentTracer::segment)
     for (int k = 0; k < o_.max_depth; ++k) {
@@ -211,7 +224,8 @@ class PhotonTracer {
       if constexpr (!M::kFlat) g *= e.energy;
       const Material& hm = sc_.materials[sc_.prims[e.prim].material];
       if (hm.kind == MaterialKind::kDiffuse) {
-        if (specular == 0) co_return;  // direct light: the path tracer's
+        // direct light: the path tracer's, but for light the hole turned back
+        if (specular == 0 && !retro_segment(skip, d0, e.dir)) co_return;
         const V3 wo = -e.dir;          // towards where the photon came from
         out.pos = e.pos;
         out.n_in = dot(wo, e.normal_local) >= 0.0 ? e.surface.normal : -e.surface.normal;

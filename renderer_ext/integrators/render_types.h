@@ -79,6 +79,9 @@ struct RenderOptions {
   // index; 0: off), and the first pass's gather radius in pixels' footprints at the gather point.
   int64_t photons = 0;
   double photon_radius = 0.0;
+  // ... and the light a hole turns back onto diffuse surfaces (a segment that turned by more than 120 degrees
+  // from a photon light), stored by the same passes, which the path tracer then leaves to them.
+  bool retro_photons = false;
   int filter = kBoxFilter;     // pixel reconstruction filter (film/pixel_filter.h), by importance sampling
   double filter_radius = 0.0;  // its support's half-width in pixels
   bool batch = false;      // curved space: step the geodesics of many samples together in SIMD lanes

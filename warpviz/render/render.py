@@ -104,6 +104,7 @@ def render(
     photons: int | None = None,
     photons_per_pixel: float | None = None,
     photon_radius: float | None = None,
+    retro_photons: bool | None = None,
     aovs=None,
     crop=None,
     progress: Callable[[int, int], object] | None = None,
@@ -291,6 +292,12 @@ def render(
     photon_radius : float, optional, keyword-only
         The first photon pass's smallest gather radius in pixels' footprints at the gather point (default
         2.0); where photons are sparse the gather reaches to the 16th nearest one.
+    retro_photons : bool, optional, keyword-only
+        With photons: the passes also carry the light a hole turns back onto diffuse surfaces (a lamp's light
+        that turned by more than 120 degrees on its way, round the photon orbits), and the path tracer leaves
+        that light to them (default True). Round Kerr and metrics from a line element the light connection
+        cannot draw it, and BSDF samples that find it speckle the ceiling above a lamp; photons bring it
+        smoothly (slightly blurred, as every photon gather). Flat space has no such light.
     batch : bool, optional, keyword-only
         In curved space, step the geodesics of many samples together in SIMD lanes (default True,
         1.5-1.9x faster). The image is bit-identical either way.
@@ -377,7 +384,8 @@ def render(
                  "batch": batch, "rr_depth": rr_depth, "max_steps": max_steps, "escape_radius": escape_radius,
                  "max_drift": max_drift, "chord_tolerance": chord_tolerance,
                  "segment_method": segment_method, "guide_training": guide_training, "photons": photons,
-                 "photons_per_pixel": photons_per_pixel, "photon_radius": photon_radius}  # fmt: skip
+                 "photons_per_pixel": photons_per_pixel, "photon_radius": photon_radius,
+                 "retro_photons": retro_photons}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:
             options[key] = value
