@@ -72,3 +72,25 @@ def room(metric_spec: dict, *, size=(24, 18), half: float = 12.0, light: float =
         "shapes": shapes,
         "environment": {"color": [0, 0, 0]},
     }
+
+
+def lamp_over_hole(metric_spec: dict, *, size=(24, 18), lamp: float = 5.0, half: float = 3.0,
+                   ceiling: float = 6.0, normal_up: bool = False) -> dict:
+    """A square lamp (half-width ``half``, at height ``lamp``) over a hole at the origin that shines only downwards (one-sided),
+    a diffuse ceiling just above it (its normal down into the room, or up with ``normal_up``), seen from below
+    and to the side. The ceiling sees only the lamp's dark back directly: all its direct light is the lamp's
+    light the hole turned back up round the photon orbits (the images of order 1 and 2, swept azimuth ~ 2 pi)."""
+    edges = ([40, 0, 0], [0, 40, 0]) if normal_up else ([0, 40, 0], [40, 0, 0])
+    return {
+        "metric": metric_spec,
+        "camera": {"position": [0, -26, 0], "look_at": [0, 0, ceiling], "up": [0, 0, 1], "fov": 50,
+                   "width": size[0], "height": size[1]},
+        "textures": [{"type": "constant", "color": [0.8, 0.8, 0.8]}, {"type": "constant", "color": [1, 1, 1]}],
+        "materials": [{"type": "diffuse", "texture": 0}, {"type": "emissive", "texture": 1, "strength": 20.0}],
+        "shapes": [
+            {"type": "quad", "corner": [-20, -20, ceiling], "edge_u": edges[0], "edge_v": edges[1], "material": 0},
+            {"type": "quad", "corner": [-half, -half, lamp], "edge_u": [0, 2 * half, 0], "edge_v": [2 * half, 0, 0],
+             "material": 1},
+        ],
+        "environment": {"color": [0, 0, 0]},
+    }

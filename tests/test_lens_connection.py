@@ -12,7 +12,7 @@ import pytest
 
 import warpviz as wv
 from warpviz._native import testing
-from native_scenes import metric, room
+from native_scenes import lamp_over_hole, metric, room
 from test_render import _image_means, assert_same_mean
 
 SPHERICAL = [e for e in wv.registered_metrics() if e["static_spherical"]]
@@ -628,3 +628,21 @@ def test_light_connection_options_are_validated():
         wv.render(sc, spp=1, lens_images=5)
     with pytest.raises(ValueError, match="lens_images"):
         wv.render(sc, spp=1, lens_images=0)
+
+
+def test_a_surface_lit_from_behind_its_normal_is_sampled_as_from_the_front():
+    # A diffuse surface reflects on both sides, so the lens connection's vertex takes its normal on the side the
+    # path arrives from. The ceiling over a lamp that shines down, lit only by the lamp's images of order 1 and 2
+    # (round the hole), gets the same light samples whichever way its normal points; with the geometric normal,
+    # a ceiling whose normal points up (away from the room) drew none, and each BSDF sample that found the lamp
+    # counted as unsampled at full weight.
+    means, counts = {}, {}
+    for up in (False, True):
+        sc = lamp_over_hole(metric("schwarzschild", 1.0), normal_up=up)
+        imgs = [wv.render(sc, spp=16, seed=s, max_depth=2, lens_images=3) for s in range(6)]
+        means[up] = np.array([img.rgb.mean() for img in imgs])
+        counts[up] = [sum(img.stats[k] for img in imgs) for k in ("light_hits", "unsampled_light_hits")]
+    for up in (False, True):
+        assert counts[up][0] >= 10 and counts[up][1] == 0
+    assert_same_mean(means[True], means[False])
+    assert means[True].var() < 4 * means[False].var()

@@ -189,9 +189,11 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  "it.", lo=0.0, hi=1e4, lo_open=True),  # fmt: skip
     RenderOption("retro_photons", "bool", True, "Caustics by photons, round a hole: the photon passes also carry "
                  "the light the hole turns back onto diffuse surfaces (from a lamp, round the photon orbits, turned "
-                 "by more than 120 degrees), which the path tracer then leaves to them; round Kerr and metrics from "
+                 "by more than 120 degrees), which the path tracer then leaves to them. Round Kerr and metrics from "
                  "a line element the light connection cannot draw that light and it speckles the ceiling above a "
-                 "lamp (fig10d's error -24 % at 16 spp). Only with photons; flat space has none."),  # fmt: skip
+                 "lamp (fig10d's error -24 % at 16 spp); where the connection is the exact lens map (Schwarzschild, "
+                 "Reissner-Nordstrom, Ellis) it draws that light itself and keeps it. Only with photons; flat space "
+                 "has none."),  # fmt: skip
     RenderOption("filter", "choice", "box", "Pixel reconstruction filter, by importance sampling of each "
                  "camera sample's offset.", choices=tuple(FILTER_RADII)),  # fmt: skip
     RenderOption("filter_radius", "real", None, "Half-width of the filter's support in pixels.", lo=0.0,

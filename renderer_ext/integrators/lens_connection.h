@@ -54,7 +54,7 @@ struct LensVertex {
   V3 pos;           // user frame
   int sheet = 1;
   V3 radial_local;  // the outward radial direction in the local frame
-  V3 normal_local;
+  V3 normal_local;  // the surface's unit normal in the local frame, on the side the path arrived from
   LinearMap to_local;
 };
 
@@ -76,7 +76,9 @@ inline LensVertex lens_vertex(const SegmentEnd& e) {
   v.sheet = e.sheet;
   v.to_local = e.to_local;
   v.radial_local = normalize(e.to_local(normalize(e.pos)));
-  v.normal_local = e.normal_local;
+  // the normal on the side the path arrives from: a diffuse surface reflects on both sides (bsdf_eval), so a light
+  // seen from the back of its geometric normal is drawn as from the front
+  v.normal_local = dot(e.dir, e.normal_local) <= 0.0 ? e.normal_local : -e.normal_local;
   return v;
 }
 

@@ -59,7 +59,8 @@ class PhotonTracer {
   static constexpr bool kTimeSymmetric = M::kFlat || M::kStaticSpherical;
 
   PhotonTracer(const M& m, const Scene& sc, const RenderOptions& o)
-      : m_(m), sc_(sc), o_(o), segments_(m, sc, o, !kTimeSymmetric), geo_(m), point_frames_(point_light_frames(m, sc)) {
+      : m_(m), sc_(sc), o_(o), segments_(m, sc, o, !kTimeSymmetric), geo_(m), point_frames_(point_light_frames(m, sc)),
+        retro_(o.retro_photons && !(M::kStaticSpherical && o.light_sampling && o.light_connection == kLensConnection)) {
     emits_.assign(sc.prims.size(), 0);
     double total = 0.0;
     for (const int p : sc.lights) {
@@ -87,11 +88,15 @@ class PhotonTracer {
   // The light a hole turns back (o.retro_photons): whether a segment that reached photon light `prim`, or left
   // it, turned by more than 120 degrees between its ends (its directions of travel there, each in its local
   // frame: the same for the geodesic traced either way). Such light reaches a diffuse surface round the photon
-  // orbits, where a light strategy without the spacetime's exact lens map (Kerr, line elements) cannot draw it;
-  // photons bring it instead, and the path tracer leaves it out in both strategies.
+  // orbits, where a light strategy without the spacetime's exact lens map (Kerr, line elements, the aimed
+  // connection) cannot draw it; photons bring it instead, and the path tracer leaves it out in both strategies.
+  // Where the light strategy is the exact lens map (static spherical metrics), it draws that light itself with
+  // less noise than the photons' gather (a lamp over a hole lighting a ceiling: 4x less variance per sample),
+  // so it keeps it (retro() false).
   static constexpr double kRetroCos = -0.5;
+  bool retro() const { return retro_; }
   bool retro_segment(int prim, V3 start, V3 end) const {
-    return o_.retro_photons && sends_photons(prim) && dot(start, end) < kRetroCos;
+    return retro_ && sends_photons(prim) && dot(start, end) < kRetroCos;
   }
 
   // Pass j's photon map: o.photons photons traced in parallel, stored in photon order. False: cancelled.
@@ -259,6 +264,7 @@ class PhotonTracer {
   std::vector<char> emits_;   // per prim: sends photons
   std::vector<int> lights_;   // the prims that send photons, and point light k as -1 - k
   std::vector<double> cdf_;   // their choice by power, cumulative
+  bool retro_;                // photons carry the light a hole turns back (retro_segment)
 };
 
 }  // namespace wv

@@ -297,7 +297,8 @@ def render(
         that turned by more than 120 degrees on its way, round the photon orbits), and the path tracer leaves
         that light to them (default True). Round Kerr and metrics from a line element the light connection
         cannot draw it, and BSDF samples that find it speckle the ceiling above a lamp; photons bring it
-        smoothly (slightly blurred, as every photon gather). Flat space has no such light.
+        smoothly (slightly blurred, as every photon gather). Where the light connection is the exact lens
+        map (static spherical metrics) it draws that light itself, and keeps it. Flat space has no such light.
     batch : bool, optional, keyword-only
         In curved space, step the geodesics of many samples together in SIMD lanes (default True,
         1.5-1.9x faster). The image is bit-identical either way.
