@@ -76,10 +76,11 @@ def room(metric_spec: dict, *, size=(24, 18), half: float = 12.0, light: float =
 
 def lamp_over_hole(metric_spec: dict, *, size=(24, 18), lamp: float = 5.0, half: float = 3.0,
                    ceiling: float = 6.0, normal_up: bool = False) -> dict:
-    """A square lamp (half-width ``half``, at height ``lamp``) over a hole at the origin that shines only downwards (one-sided),
-    a diffuse ceiling just above it (its normal down into the room, or up with ``normal_up``), seen from below
-    and to the side. The ceiling sees only the lamp's dark back directly: all its direct light is the lamp's
-    light the hole turned back up round the photon orbits (the images of order 1 and 2, swept azimuth ~ 2 pi)."""
+    """A square lamp (half-width ``half``, at height ``lamp``) over a hole at the origin that shines only
+    downwards (one-sided), a diffuse ceiling just above it (its normal down into the room, or up with
+    ``normal_up``), seen from below and to the side. The ceiling sees only the lamp's dark back directly: all its
+    direct light is the lamp's light the hole turned back up round the photon orbits (the images of order 1 and
+    2, swept azimuth ~ 2 pi)."""
     edges = ([40, 0, 0], [0, 40, 0]) if normal_up else ([0, 40, 0], [40, 0, 0])
     return {
         "metric": metric_spec,

@@ -516,7 +516,8 @@ class PathTracer {
     const PhotonPass& pass = *caustics_.pass;
     const double footprint = o_.photon_radius * pixel_angle_ * path_length;
     // (a caustic photon came in two segments at least, one the hole turned back in one: retro_photons)
-    if (!(footprint > 0.0) || pass.map.size() == 0 || segments < (caustics_.tracer->retro() ? 1 : 2)) return {0, 0, 0};
+    const int least = caustics_.tracer->retro() ? 1 : 2;
+    if (!(footprint > 0.0) || pass.map.size() == 0 || segments < least) return {0, 0, 0};
     const V3 side = dot(wo, e.normal_local) >= 0.0 ? e.surface.normal : -e.surface.normal;
     auto usable = [&](const Photon& p) { return p.segments <= segments && dot(p.n_in, side) > 0.5; };
     const double reach =
