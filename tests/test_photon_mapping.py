@@ -243,11 +243,14 @@ def test_light_the_hole_turns_back_is_the_photons_and_converges_to_the_path_trac
 def test_retro_photons_change_nothing_in_flat_space_nor_where_the_lens_map_is_exact():
     # A straight segment never turns: in flat space the option changes no bit. Round Schwarzschild the light
     # connection's exact lens map draws the turned-back light itself (with less noise than a gather), so there
-    # the path tracer keeps it and no photon carries it.
-    for spec in (metric(), metric("schwarzschild", 1.0)):
+    # the path tracer keeps it and no photon carries it: with either connection that uses the map ("lens", and
+    # "images", which differs from it only round Kerr).
+    for spec, connection in ((metric(), "lens"), (metric("schwarzschild", 1.0), "lens"),
+                             (metric("schwarzschild", 1.0), "images")):
         sc = lamp_over_hole(spec, size=(12, 9))
-        a = wv.render(sc, spp=4, seed=3, max_depth=3, photons=500)
-        b = wv.render(sc, spp=4, seed=3, max_depth=3, photons=500, retro_photons=False)
+        kw = {"spp": 4, "seed": 3, "max_depth": 3, "photons": 500, "light_connection": connection}
+        a = wv.render(sc, **kw)
+        b = wv.render(sc, retro_photons=False, **kw)
         np.testing.assert_array_equal(a.rgb, b.rgb)
         assert a.stats["photons_stored"] == 0
     aimed = wv.render(sc, spp=4, seed=3, max_depth=3, photons=500, light_connection="aimed")

@@ -197,7 +197,7 @@ class LightConnection {
       const int p = sc_.lights[i];
       if (sc_.prims[p].sheet != e.sheet) continue;
       if constexpr (M::kLensProxy) {
-        if (i < kImageLights && o_.light_connection != kAimedConnection) {
+        if (i < kImageLights && lens_connection_on(o_)) {
           co_await image_proxies(e, n_user, wo, p, st, frames, sched, a, i);
           if (a.images[i] > 0) continue;
         }

@@ -305,7 +305,7 @@ class PathTracer {
       co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
                                  le, e.step);
       ps.close(le, e.sheet, bounce + 1, kLightSegment);
-      if (lens_.light_sample_hits(le, sc_.lights[li], target) && !retro_light(e, mat, wl, le))
+      if (lens_.light_sample_hits(le, sc_.lights[li], target) && !retro_light(gathers(mat), wl, le))
         add_light(ps, e, li, ps.beta * f * emission_.emission(le) * (keep / (pl + pb)));
       co_return;
     }
@@ -330,15 +330,17 @@ class PathTracer {
     co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
                                le, e.step);
     ps.close(le, e.sheet, bounce + 1, kLightSegment);
-    if (!retro_light(e, mat, wl, le)) add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
+    if (!retro_light(gathers(mat), wl, le)) add_light(ps, e, li, ps.beta * f * emission_.emission(le) / (pl + pb));
   }
 
-  // Whether the light that reaches diffuse vertex e along direction w by segment le is the retro photons'
-  // (photon_tracer.h: a photon light's light the hole turned back), which the vertex gathers, so neither
-  // strategy brings it.
-  bool retro_light(const SegmentEnd& e, const Material& mat, V3 w, const SegmentEnd& le) const {
-    return caustics_.pass && mat.kind == MaterialKind::kDiffuse && le.status == kHit &&
-           caustics_.tracer->retro_segment(le.prim, w, le.dir);
+  // Whether a vertex of material mat gathers photons (every diffuse one, in a render with caustic photons).
+  bool gathers(const Material& mat) const { return caustics_.pass && mat.kind == MaterialKind::kDiffuse; }
+
+  // Whether the light that segment le, leaving a vertex along direction w, brings there is the retro photons'
+  // (photon_tracer.h: a photon light's light the hole turned back) because that vertex gathers them
+  // (`gathers`): then neither strategy, light sample nor BSDF sample, brings it.
+  bool retro_light(bool gathers, V3 w, const SegmentEnd& le) const {
+    return gathers && le.status == kHit && caustics_.tracer->retro_segment(le.prim, w, le.dir);
   }
 
   // A BSDF sample at a vertex that also drew a light sample reached a light's lit side; pl: the light strategy's pdf
@@ -602,7 +604,7 @@ class PathTracer {
     // Caustics by photons: every diffuse vertex gathers them, so the path tracer leaves out the emission of a
     // photon light reached from the last diffuse vertex through specular vertices only (`specular`).
     bool gathered = false, specular = false;
-    bool gathers = false;  // the segment leaves a vertex that gathered (retro light is the photons')
+    bool gathering = false;  // the segment leaves a vertex that gathered (retro light is the photons')
     double path_length = 0.0;  // user-frame distance along the path (vertex to vertex): the gather's footprint
     double first_step = camera_step_;  // where a segment's steps start: the camera's, then the last segment's last
 
@@ -622,7 +624,7 @@ class PathTracer {
           sc_.materials[sc_.prims[e.prim].material].beaming)
         L_own_shift = ps.beta * Le * ps.mis;
       // Light the hole turned back onto the vertex this segment left: the photons' (photon_tracer.h), not MIS's.
-      const bool retro = gathers && e.status == kHit && caustics_.tracer->retro_segment(e.prim, d, e.dir);
+      const bool retro = retro_light(gathering, d, e);
       if (ps.lens_prev && !retro) {
         const double pl = e.status == kHit ? lens_.pdf(ps.lens_v, ps.lens_w, e.prim, e.pos, ps.select) : 0.0;
         ps.mis = ps.lens_pb / (ps.lens_pb + pl);
@@ -654,13 +656,13 @@ class PathTracer {
       if (mat.kind == MaterialKind::kEmissive || bounce + 1 >= o_.max_depth) break;
       const SurfacePoint& sp = e.surface;
       const V3 albedo = sc_.albedo(mat, sp), n = e.normal_local, wo = -e.dir;
-      if (caustics_.pass && mat.kind == MaterialKind::kDiffuse) {
+      gathering = gathers(mat);
+      if (gathering) {
         ps.add(ps.beta * gather_photons(e, albedo, wo, path_length, o_.max_depth - (bounce + 1), !gathered));
         gathered = true;
       }
-      gathers = caustics_.pass && mat.kind == MaterialKind::kDiffuse;
       const bool nee = o_.light_sampling && !mat.is_delta() && sc_.light_count() > 0;
-      const bool lens = nee && o_.light_connection != kAimedConnection && lens_.applies(e);
+      const bool lens = nee && lens_connection_on(o_) && lens_.applies(e);
       // A diffuse vertex in a part of space where the guide saw light draws half its directions from it.
       // and chooses its lights as the guide learnt there.
       const int space =

@@ -60,7 +60,7 @@ class PhotonTracer {
 
   PhotonTracer(const M& m, const Scene& sc, const RenderOptions& o)
       : m_(m), sc_(sc), o_(o), segments_(m, sc, o, !kTimeSymmetric), geo_(m), point_frames_(point_light_frames(m, sc)),
-        retro_(o.retro_photons && !(M::kStaticSpherical && o.light_sampling && o.light_connection == kLensConnection)) {
+        retro_(o.retro_photons && !exact_light_strategy<M>(o)) {
     emits_.assign(sc.prims.size(), 0);
     double total = 0.0;
     for (const int p : sc.lights) {

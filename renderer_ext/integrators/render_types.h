@@ -101,6 +101,18 @@ struct RenderOptions {
   std::function<bool(int64_t, int64_t)> poll;
 };
 
+// Whether a diffuse vertex's light strategy uses the lens connection (lens_connection.h) where it applies, rather
+// than the aimed proxies everywhere.
+inline bool lens_connection_on(const RenderOptions& o) { return o.light_connection != kAimedConnection; }
+
+// Whether the light strategy draws every image of a light by the spacetime's exact lens map (a static spherical
+// metric with the lens connection on): it then draws the light a hole turns back itself, and needs no photons
+// for it (PhotonTracer::retro).
+template <class M>
+bool exact_light_strategy(const RenderOptions& o) {
+  return M::kStaticSpherical && o.light_sampling && lens_connection_on(o);
+}
+
 // What a pixel's probes found (render_loop.h: pixel_classes): its samples are a multiple of spp by its class.
 // A bright edge pixel holds the edge of an emitter seen at kBrightEdgeRatio or more times the radiance of the
 // scene's faintest emitter (a sun seen past a hole or through a throat from a room its lamp lights): its noise
