@@ -51,6 +51,12 @@ light connection touches; ``edge_samples`` gives the ones its probes find more s
 
     python benchmarks/bench_light_connection.py            # ~10 minutes on one core
     python benchmarks/bench_light_connection.py --quick    # seconds
+    git show a377547:scenes/fig07_schwarzschild_cornell.toml > /tmp/old_fig07.toml
+    python benchmarks/bench_light_connection.py --rooms fig07 --scene fig07=/tmp/old_fig07.toml  # an older room
+
+``--scene ROOM=FILE`` renders a room (and its flat companion) from that scene file: a room as it was at an older
+commit, so that today's estimators are compared on the scene an older measurement used (the reference, too, is
+rendered from it).
 
 Writes ``light_connection.csv`` (one row per room and estimator) to ``--out`` (default
 benchmarks/results) and prints a table.
@@ -108,8 +114,13 @@ ONLY_IN = {"images": {"fig10d", "line_element_kerr_newman"}, "lens, unguided": {
            "lens, no camera lights": {"fig07", "fig12", "fig13"}}  # (static spherical rooms: elsewhere the same)
 
 
+#: Rooms rendered from a scene file instead of their shipped scene (--scene ROOM=FILE): room name -> file.
+SCENE_FILES: dict[str, str] = {}
+
+
 def _scene(room: str) -> str:
-    return room.split()[0]
+    name = room.split()[0]
+    return SCENE_FILES.get(name, name)
 
 
 def _render(room: str, cfg: dict, *, spp: int, seed: int, max_depth: int | None = None, via: dict | None = None,
@@ -150,7 +161,8 @@ def measure(room: str, cfg: dict, estimator: str, ref, noise, mask, *, max_depth
         cpu.append(t)
     t = float(np.mean(cpu))
     rel_all, rel_masked = float(np.mean(mse_all)), float(np.mean(mse_masked))
-    return {"room": room, "estimator": estimator, "max_depth": max_depth or "scene", "spp": cfg["spp"],
+    return {"room": room, "scene": Path(_scene(room)).name, "estimator": estimator, "max_depth": max_depth or "scene",
+            "spp": cfg["spp"],
             "width": cfg["size"][0], "height": cfg["size"][1], "reference_spp": cfg["ref_spp"],
             "cpu_s": t, "rel_mse": rel_all, "efficiency": 1.0 / (rel_all * t),
             "rel_mse_no_emitter_pixels": rel_masked, "efficiency_no_emitter_pixels": 1.0 / (rel_masked * t),
@@ -176,8 +188,18 @@ def main(argv=None) -> list[dict]:
     p.add_argument("--quick", action="store_true", help="tiny frames and references (seconds; for tests)")
     p.add_argument("--out", type=Path, default=RESULTS)
     p.add_argument("--rooms", default=",".join(ROOMS), help="comma-separated subset of " + ", ".join(ROOMS))
+    p.add_argument("--scene", action="append", default=[], metavar="ROOM=FILE",
+                   help="render ROOM (and its flat companion) from this scene file (e.g. the room at an older "
+                        "commit); repeatable")  # fmt: skip
     add_cluster_options(p)
     args = p.parse_args(argv)
+    SCENE_FILES.clear()
+    for item in args.scene:
+        name, sep, file = item.partition("=")
+        if not sep or name not in ROOMS or not Path(file).is_file():
+            raise SystemExit(f"--scene {item!r}: expected ROOM=FILE with ROOM one of {', '.join(ROOMS)} and "
+                             "FILE an existing scene file")  # fmt: skip
+        SCENE_FILES[name] = file
     cfg = ({"size": (12, 9), "spp": 4, "ref_spp": 32, "seeds": 1, "rounds": 2} if args.quick else
            {"size": (48, 36), "spp": 16, "ref_spp": 1024, "seeds": 3, "rounds": 5})  # fmt: skip
     print(machine_line(threads=1))
