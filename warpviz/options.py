@@ -17,11 +17,11 @@ Examples
 --------
 >>> from warpviz.options import DEFAULT_OPTIONS, check_option, default_edge_samples
 >>> DEFAULT_OPTIONS["lens_images"]
-2
+3
 >>> DEFAULT_OPTIONS["edge_samples"] is None, default_edge_samples(denoise=False), default_edge_samples(denoise=True)
 (True, 8, 32)
->>> check_option("lens_images", 3)
-3
+>>> check_option("lens_images", 2)
+2
 >>> check_option("filter", "lanczos")
 Traceback (most recent call last):
 ...
@@ -132,8 +132,9 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
                  "connection of that mass as a proposal); 'images' uses Newton-refined image proxies instead, and "
                  "'aimed' flat-space proxies aimed by pilot geodesics, for comparison.",
                  choices=("lens", "images", "aimed"), flag="--light-connection"),  # fmt: skip
-    RenderOption("lens_images", "int", 2, "Image orders the lens connection samples (1: the direct image, 2: "
-                 "also round the far side, ...).", lo=1, hi=4),  # fmt: skip
+    RenderOption("lens_images", "int", 3, "Image orders the lens connection samples (1: the direct image, 2: "
+                 "also round the far side, 3: also the first winding, which lights a ceiling above a lamp as much as "
+                 "the far side's image; ...).", lo=1, hi=4),  # fmt: skip
     RenderOption("lens_focus", "bool", True, "Curved space, with the lens connection: draw half of a light's "
                  "points about where the hole focuses it onto the vertex (behind the centre, as densely as the lens "
                  "magnifies them; the floor under a hole with a lamp above it is lit by the lamp's magnified ring) "
@@ -141,7 +142,7 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
     RenderOption("camera_light_samples", "bool", True, "Static spherical metrics, with the lens connection: in the "
                  "pixels where a light's or a star's lensed image is small (a far sun, a thin arc round a hole, "
                  "stars) the camera draws light samples of its own through the exact lens map."),  # fmt: skip
-    RenderOption("light_roulette", "real", 1.0, "Curved space, with the lens connection: Russian roulette on the "
+    RenderOption("light_roulette", "real", 0.3, "Curved space, with the lens connection: Russian roulette on the "
                  "light samples of a path's dim vertices. A light sample whose contribution, as far as it is known "
                  "before its ray is traced, is below this times the largest on its path so far is traced with "
                  "probability contribution / threshold and weighted by the inverse (still unbiased); 0 traces "

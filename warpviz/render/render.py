@@ -159,9 +159,10 @@ def render(
         they apply; otherwise as ``"lens"``. ``"aimed"``: the flat-space proxies aimed by pilot geodesics
         everywhere. Flat space is the same either way; every choice is unbiased.
     lens_images : int, optional, keyword-only
-        Image orders the lens connection samples, 1-4 (default 2: the direct image and the one round the
-        far side of the hole; each further order is ~e^(-2 pi) dimmer). Higher orders are found by BSDF
-        sampling alone.
+        Image orders the lens connection samples, 1-4 (default 3: the direct image, the one round the far
+        side of the hole and the first winding; each further order is ~e^(-2 pi) dimmer, but the first
+        winding lights a surface the lamp turns its back on, a ceiling above it, as much as the far side's
+        image). Higher orders are found by BSDF sampling alone.
     lens_focus : bool, optional, keyword-only
         In curved space, with the lens connection: draw half of the points on a quad or disk light about the
         point of its plane straight behind the hole as seen from the vertex, where the lens magnifies the
@@ -180,12 +181,12 @@ def render(
         alone.
     light_roulette : float, optional, keyword-only
         Curved space, with the lens connection: Russian roulette on the light samples of a path's dim
-        vertices (default 1; 0 traces every light sample). Before its ray is traced, a light sample's
+        vertices (default 0.3; 0 traces every light sample). Before its ray is traced, a light sample's
         contribution is known but for its redshift and whether it is blocked; one below ``light_roulette``
         times the largest so far on its path is traced with probability contribution / threshold and weighted
         by the inverse, so the image stays unbiased and the light samples of deep bounces and grazing light
-        mostly cost no geodesic (1.04-1.09x the efficiency of the lit rooms: benchmarks/README.md, "Light
-        connection").
+        mostly cost no geodesic (0.3: 1.02-1.07x the efficiency of 1 in fig07 and fig10d, 8 % less error for
+        2-6 % more time; benchmarks/README.md, "Light connection").
     pixel_sampler : {"sobol", "independent"}, optional, keyword-only
         Where a camera sample falls in its pixel. ``"sobol"`` (default): the pixel's Owen-scrambled Sobol
         sequence, stratified for every sample count, so edges inside a pixel (a lensed lamp, the shadow's
