@@ -114,13 +114,10 @@ ONLY_IN = {"images": {"fig10d", "line_element_kerr_newman"}, "lens, unguided": {
            "lens, no camera lights": {"fig07", "fig12", "fig13"}}  # (static spherical rooms: elsewhere the same)
 
 
-#: Rooms rendered from a scene file instead of their shipped scene (--scene ROOM=FILE): room name -> file.
-SCENE_FILES: dict[str, str] = {}
-
-
-def _scene(room: str) -> str:
+def _scene(room: str, cfg: dict) -> str:
+    """The scene a room renders: its shipped one, or the file --scene named for it (cfg['scenes'])."""
     name = room.split()[0]
-    return SCENE_FILES.get(name, name)
+    return cfg.get("scenes", {}).get(name, name)
 
 
 def _render(room: str, cfg: dict, *, spp: int, seed: int, max_depth: int | None = None, via: dict | None = None,
@@ -128,7 +125,7 @@ def _render(room: str, cfg: dict, *, spp: int, seed: int, max_depth: int | None 
     kw = {"width": cfg["size"][0], "height": cfg["size"][1], "threads": 1, "flat": ROOMS[room], **(via or {})}
     if max_depth is not None:
         kw["max_depth"] = max_depth
-    img, cpu, _ = timed(lambda: wv.render(_scene(room), spp=spp, seed=seed, **kw, **options))
+    img, cpu, _ = timed(lambda: wv.render(_scene(room, cfg), spp=spp, seed=seed, **kw, **options))
     return img.rgb.astype(np.float64), cpu, img.stats
 
 
@@ -161,9 +158,9 @@ def measure(room: str, cfg: dict, estimator: str, ref, noise, mask, *, max_depth
         cpu.append(t)
     t = float(np.mean(cpu))
     rel_all, rel_masked = float(np.mean(mse_all)), float(np.mean(mse_masked))
-    return {"room": room, "scene": Path(_scene(room)).name, "estimator": estimator, "max_depth": max_depth or "scene",
-            "spp": cfg["spp"],
-            "width": cfg["size"][0], "height": cfg["size"][1], "reference_spp": cfg["ref_spp"],
+    return {"room": room, "scene": Path(_scene(room, cfg)).name, "estimator": estimator,
+            "max_depth": max_depth or "scene", "spp": cfg["spp"], "width": cfg["size"][0], "height": cfg["size"][1],
+            "reference_spp": cfg["ref_spp"],
             "cpu_s": t, "rel_mse": rel_all, "efficiency": 1.0 / (rel_all * t),
             "rel_mse_no_emitter_pixels": rel_masked, "efficiency_no_emitter_pixels": 1.0 / (rel_masked * t),
             "rel_rmse": math.sqrt(rel_all), "rel_rmse_no_emitter_pixels": math.sqrt(rel_masked),
@@ -193,15 +190,16 @@ def main(argv=None) -> list[dict]:
                         "commit); repeatable")  # fmt: skip
     add_cluster_options(p)
     args = p.parse_args(argv)
-    SCENE_FILES.clear()
+    scenes = {}
     for item in args.scene:
         name, sep, file = item.partition("=")
         if not sep or name not in ROOMS or not Path(file).is_file():
             raise SystemExit(f"--scene {item!r}: expected ROOM=FILE with ROOM one of {', '.join(ROOMS)} and "
                              "FILE an existing scene file")  # fmt: skip
-        SCENE_FILES[name] = file
+        scenes[name] = file
     cfg = ({"size": (12, 9), "spp": 4, "ref_spp": 32, "seeds": 1, "rounds": 2} if args.quick else
            {"size": (48, 36), "spp": 16, "ref_spp": 1024, "seeds": 3, "rounds": 5})  # fmt: skip
+    cfg["scenes"] = scenes
     print(machine_line(threads=1))
     rows = []
     rooms = [r.strip() for r in args.rooms.split(",") if r.strip()]

@@ -205,15 +205,12 @@ def test_light_connection_benchmark_renders_a_room_from_a_scene_file(tmp_path):
 
     scene = tmp_path / "fig07_then.toml"
     scene.write_text(resolve_scene("fig07").read_text().replace("fov = 58.0", "fov = 60.0"))
-    try:
-        rows = bench_light_connection.main(["--quick", "--rooms", "fig07 flat", "--scene", f"fig07={scene}",
-                                            "--out", str(tmp_path)])  # fmt: skip
-        assert {r["scene"] for r in rows} == {"fig07_then.toml"} and all(r["rel_mse"] > 0 for r in rows)
-        for bad in (f"fig99={scene}", "fig07=" + str(tmp_path / "missing.toml"), str(scene)):
-            with pytest.raises(SystemExit, match="--scene"):
-                bench_light_connection.main(["--quick", "--rooms", "fig07 flat", "--scene", bad])
-    finally:
-        bench_light_connection.SCENE_FILES.clear()
+    rows = bench_light_connection.main(["--quick", "--rooms", "fig07 flat", "--scene", f"fig07={scene}",
+                                        "--out", str(tmp_path)])  # fmt: skip
+    assert {r["scene"] for r in rows} == {"fig07_then.toml"} and all(r["rel_mse"] > 0 for r in rows)
+    for bad in (f"fig99={scene}", "fig07=" + str(tmp_path / "missing.toml"), str(scene)):
+        with pytest.raises(SystemExit, match="--scene"):
+            bench_light_connection.main(["--quick", "--rooms", "fig07 flat", "--scene", bad])
 
 
 def test_mitsuba_cornell_quick(tmp_path):
