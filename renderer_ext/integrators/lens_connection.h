@@ -78,7 +78,7 @@ inline LensVertex lens_vertex(const SegmentEnd& e) {
   v.radial_local = normalize(e.to_local(normalize(e.pos)));
   // the normal on the side the path arrives from: a diffuse surface reflects on both sides (bsdf_eval), so a light
   // seen from the back of its geometric normal is drawn as from the front
-  v.normal_local = dot(e.dir, e.normal_local) <= 0.0 ? e.normal_local : -e.normal_local;
+  v.normal_local = e.normal_local * arrival_side(e);
   return v;
 }
 

@@ -335,7 +335,7 @@ class LightConnection {
         ip.b[j] = kImageMargin * tb[j];
       }
       ip.area = std::fabs(ip.a[0] * ip.b[1] - ip.a[1] * ip.b[0]);
-      const double cos_a = dot(ip.w, e.normal_local) * (dot(wo, e.normal_local) >= 0.0 ? 1.0 : -1.0);  // (wo's side)
+      const double cos_a = dot(ip.w, e.normal_local) * arrival_side(e);
       ip.weight = ip.area * std::max(0.0, cos_a);
       if (!(ip.weight > 0.0) || !std::isfinite(ip.weight)) continue;
       a.image_total[i] += ip.weight;

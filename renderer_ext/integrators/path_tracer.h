@@ -520,7 +520,7 @@ class PathTracer {
     // (a caustic photon came in two segments at least, one the hole turned back in one: retro_photons)
     const int least = caustics_.tracer->retro() ? 1 : 2;
     if (!(footprint > 0.0) || pass.map.size() == 0 || segments < least) return {0, 0, 0};
-    const V3 side = dot(wo, e.normal_local) >= 0.0 ? e.surface.normal : -e.surface.normal;
+    const V3 side = e.surface.normal * arrival_side(e);
     auto usable = [&](const Photon& p) { return p.segments <= segments && dot(p.n_in, side) > 0.5; };
     const double reach =
         first ? pass.map.kth_distance(e.pos, e.sheet, kGatherNeighbours, kGatherReach * footprint, usable) : 0.0;

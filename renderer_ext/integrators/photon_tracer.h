@@ -231,9 +231,8 @@ class PhotonTracer {
       if (hm.kind == MaterialKind::kDiffuse) {
         // direct light: the path tracer's, but for light the hole turned back
         if (specular == 0 && !retro_segment(skip, d0, e.dir)) co_return;
-        const V3 wo = -e.dir;          // towards where the photon came from
         out.pos = e.pos;
-        out.n_in = dot(wo, e.normal_local) >= 0.0 ? e.surface.normal : -e.surface.normal;
+        out.n_in = e.surface.normal * arrival_side(e);  // (the side the photon came from)
         out.power = power / (g * g);
         out.sheet = e.sheet;
         out.segments = k + 1;

@@ -40,6 +40,10 @@ struct SegmentEnd {
   ObserverFrame frame;  // hit: the static observer (or ZAMO) there
 };
 
+// Which side of hit e's surface the path arrived on: +1 the side its normal points to, -1 behind it. A diffuse
+// surface reflects on both sides, so what reaches it is measured from the normal times this.
+inline double arrival_side(const SegmentEnd& e) { return dot(e.dir, e.normal_local) <= 0.0 ? 1.0 : -1.0; }
+
 // The ray leaving a surface starts a hair off it, on the side it leaves towards.
 inline V3 offset(V3 pos, V3 n_user, V3 n_local, V3 w) {
   const double eps = 1e-7 * (1.0 + length(pos));
