@@ -134,7 +134,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--scenes", default="fig07,fig10d", help="comma-separated shipped rooms")
     parser.add_argument("--size", default=None, help="WIDTHxHEIGHT (default 640x480; --quick 24x18)")
     parser.add_argument("--spp", default=None, help="comma-separated samples per pixel of the timed renders "
-                        "(default 1,2,4,8,16,32; --quick 1,4)")  # fmt: skip
+                        "(default 1,2,4,8,16,32; --quick 1,16)")  # fmt: skip
     parser.add_argument("--target", type=float, default=1e-3, help="relative MSE to reach (default 1e-3)")
     parser.add_argument("--ref-time", type=float, default=None,
                         help="seconds added to each reference half this run (default 0: use what is cached; --quick 1)")
@@ -154,7 +154,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
 
     require_denoiser()
     w, h = (int(v) for v in (args.size or ("24x18" if args.quick else "640x480")).lower().split("x"))
-    spps = [int(s) for s in (args.spp or ("1,4" if args.quick else "1,2,4,8,16,32")).split(",")]
+    spps = [int(s) for s in (args.spp or ("1,16" if args.quick else "1,2,4,8,16,32")).split(",")]
     ref_time = args.ref_time if args.ref_time is not None else (1.0 if args.quick else 0.0)
     ref_spp = args.ref_spp or (64 if args.quick else 4096)
     rows, refs = [], {}

@@ -281,9 +281,11 @@ def test_time_to_clean_benchmark_quick_mode_builds_its_reference_in_pieces(tmp_p
     summary = bench_time_to_clean.main(args)  # the reference grows by another second per half
     assert wv_spp(cache) > first
     rows = read_csv(tmp_path / "time_to_clean.csv")
-    assert {r["method"] for r in rows} == {"noisy", "denoised"} and {int(r["spp"]) for r in rows} == {1, 4}
+    assert {r["method"] for r in rows} == {"noisy", "denoised"} and {int(r["spp"]) for r in rows} == {1, 16}
     noisy = sorted((int(r["spp"]), float(r["rel_mse"])) for r in rows if r["method"] == "noisy")
-    assert noisy[1][1] < noisy[0][1]  # more samples, less error
+    # more samples, less error: one seed each, so 16x the samples (at 4x, seed 1's 4 spp holds a firefly as large as
+    # its 1 spp's whole error: 0.12 both, against ~0.04 from seeds 2, 4, 5 and 6)
+    assert noisy[1][1] < noisy[0][1]
     assert {s["method"] for s in summary} == {"noisy", "denoised"}
     assert all(s["how"] in ("interpolated", "extrapolated", "reached by the first run", "not reached") for s in summary)
     assert all(float(r["rel_mse_se"]) > 0 and float(r["rel_mse_off_lights_se"]) > 0 for r in rows)

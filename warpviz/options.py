@@ -135,9 +135,9 @@ RENDER_OPTIONS: tuple[RenderOption, ...] = (
     RenderOption("lens_images", "int", 3, "Image orders the lens connection samples (1: the direct image, 2: "
                  "also round the far side, 3: also the first winding, which lights a ceiling above a lamp as much as "
                  "the far side's image; ...).", lo=1, hi=4),  # fmt: skip
-    RenderOption("lens_focus", "bool", True, "Curved space, with the lens connection: draw half of a light's "
-                 "points about where the hole focuses it onto the vertex (behind the centre, as densely as the lens "
-                 "magnifies them; the floor under a hole with a lamp above it is lit by the lamp's magnified ring) "
+    RenderOption("lens_focus", "bool", True, "Curved space, with the lens connection: draw nine in ten of a "
+                 "light's points about where the hole focuses it onto the vertex (behind the centre, as densely as the "
+                 "lens magnifies them; the floor under a hole with a lamp above it is lit by the lamp's magnified ring) "
                  "and the rest by area (still unbiased)."),  # fmt: skip
     RenderOption("camera_light_samples", "bool", True, "Static spherical metrics, with the lens connection: in the "
                  "pixels where a light's or a star's lensed image is small (a far sun, a thin arc round a hole, "

@@ -164,10 +164,10 @@ def render(
         winding lights a surface the lamp turns its back on, a ceiling above it, as much as the far side's
         image). Higher orders are found by BSDF sampling alone.
     lens_focus : bool, optional, keyword-only
-        In curved space, with the lens connection: draw half of the points on a quad or disk light about the
-        point of its plane straight behind the hole as seen from the vertex, where the lens magnifies the
-        light without bound (an Einstein ring), as densely as a point lens magnifies them, and the rest
-        uniformly by area (default True; unbiased either way). The floor under a hole with a lamp above it,
+        In curved space, with the lens connection: draw nine in ten of the points on a quad or disk light
+        about the point of its plane straight behind the hole as seen from the vertex, where the lens
+        magnifies the light without bound (an Einstein ring), as densely as a point lens magnifies them, and
+        the rest uniformly by area (default True; unbiased either way). The floor under a hole with a lamp above it,
         lit by the lamp's magnified ring, is then several times less noisy (fig07's direct light: 0.6x the
         error).
     camera_light_samples : bool, optional, keyword-only
