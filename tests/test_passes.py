@@ -171,8 +171,25 @@ def test_resume_refuses_an_image_from_before_a_fix_that_changes_its_samples():
     old = from_before_the_fix(wv.render("fig12", **SMALL, spp=1, threads=2))
     with pytest.raises(ValueError, match="before the camera's own light samples of a sphere lamp were fixed"):
         wv.render("fig12", **SMALL, spp=2, threads=2, resume=old)
-    for room, kw in (("fig07", {}), ("fig12", {"camera_light_samples": False})):
+    for room, kw in (("fig07", {"lens_focus": False}), ("fig12", {"camera_light_samples": False})):
         img = from_before_the_fix(wv.render(room, **SMALL, spp=1, threads=2, **kw))
+        assert wv.render(room, **SMALL, spp=2, threads=2, resume=img, **kw).metadata["spp"] == 2
+
+
+def test_resume_refuses_an_image_from_before_the_lens_focus_drew_by_magnification():
+    """The lens focus's angles by what the lens magnifies (732f3bc) change the samples of a curved room with the
+    focus (fig07, the Kerr room fig10d): an image from before it cannot be continued; the wormhole's (no mass, no
+    focus) and one rendered without the focus can."""
+    def from_before(img):
+        img.metadata["resume"]["settings"]["fixes"].remove("lens_focus_bins")
+        return img
+
+    for room in ("fig07", "fig10d"):
+        old = from_before(wv.render(room, **SMALL, spp=1, threads=2))
+        with pytest.raises(ValueError, match="before the lens focus drew its angle by what the lens magnifies"):
+            wv.render(room, **SMALL, spp=2, threads=2, resume=old)
+    for room, kw in (("fig07", {"lens_focus": False}), ("fig13", {})):
+        img = from_before(wv.render(room, **SMALL, spp=1, threads=2, **kw))
         assert wv.render(room, **SMALL, spp=2, threads=2, resume=img, **kw).metadata["spp"] == 2
 
 

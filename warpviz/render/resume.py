@@ -58,7 +58,12 @@ IMPLIED_SETTINGS = {"detail_samples": 1, "guide_training": 0, "photons": 0, "pho
 FIXES = (("camera_light_hit_aim",
           lambda s: bool(s.get("camera_light_samples") and s.get("sphere_lamps")) and s.get("metric") != "minkowski",
           "the camera's own light samples of a sphere lamp were fixed (0b55c8c, 2026-12-07: a shot that reached the "
-          "lamp anywhere counted, so a sphere lamp seen round a hole came out up to 10 % too bright)"),)
+          "lamp anywhere counted, so a sphere lamp seen round a hole came out up to 10 % too bright)"),
+         ("lens_focus_bins",
+          lambda s: bool(s.get("lens_focus")) and s.get("light_connection") != "aimed"
+          and s.get("metric") not in ("minkowski", "ellis"),
+          "the lens focus drew its angle by what the lens magnifies and nine in ten of the light points (732f3bc, "
+          "2026-12-07: the same mean, another estimator)"),)
 
 
 def _sphere_lamps(native: dict) -> bool:
