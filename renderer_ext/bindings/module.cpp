@@ -438,9 +438,9 @@ nb::dict render(nb::dict scene, nb::dict options) {
   out["completed"] = r.completed && !interrupted;
   if (r.guide && !r.guide->empty()) out["guide"] = guide_to_dict(*r.guide);
   nb::dict counts;
-  for (int k = 0; k < wv::kNumStatuses; ++k) counts[wv::kStatusNames[k]] = r.status_counts[k];
+  for (int k = 0; k < wv::kNumStatuses; ++k) counts[wv::kStatusNames[k]] = r.stats.counts[k];
   stats["segments_by_status"] = counts;
-  stats["segments"] = r.segments;
+  stats["segments"] = r.stats.segments;
   stats["edge_pixels"] = r.edge_pixels;
   stats["bright_edge_pixels"] = r.bright_edge_pixels;
   stats["detail_pixels"] = r.detail_pixels;
@@ -448,9 +448,9 @@ nb::dict render(nb::dict scene, nb::dict options) {
   stats["photon_segments"] = r.photon_segments;
   stats["photon_passes"] = r.photon_passes;
   stats["photons_stored"] = r.photons_stored;
-  stats["steps"] = r.total_steps;
-  stats["light_hits"] = r.light_hits;
-  stats["unsampled_light_hits"] = r.unsampled_light_hits;
+  stats["steps"] = r.stats.steps;
+  stats["light_hits"] = r.stats.light_hits;
+  stats["unsampled_light_hits"] = r.stats.unsampled_light_hits;
   stats["seconds"] = seconds;
   stats["threads"] = wv::resolve_threads(o.threads);
   out["stats"] = stats;

@@ -999,8 +999,8 @@ RenderResult path_trace_scene(const M& m, const Scene& sc, const RenderOptions& 
   RenderResult r = render_passes<M, S>(m, sc.camera, o, sample, probe, emitters, photon_pass, images, bright);
   r.guide = guide;
   r.guide_segments = training.segments;
-  r.segments += training.segments + photon_stats.segments;
-  r.total_steps += training.steps + photon_stats.steps;
+  r.stats.segments += training.segments + photon_stats.segments;
+  r.stats.steps += training.steps + photon_stats.steps;
   r.photon_segments = photon_stats.segments;
   r.photon_passes = photon_passes;
   r.photons_stored = photons_stored;

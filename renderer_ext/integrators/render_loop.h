@@ -333,10 +333,8 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
         passes.push_back({s, std::min(s1, s + n), &g.pixels, g.k});
     }
   }
-  std::atomic<int64_t> counts[6];
-  for (int k = 0; k < 6; ++k) counts[k] = probes.counts[k];
-  std::atomic<int64_t> steps{probes.steps}, segments{probes.segments};
-  std::atomic<int64_t> light_hits{probes.light_hits}, unsampled_light_hits{probes.unsampled_light_hits};
+  std::mutex stats_mutex;  // (a chunk's counts are added once it is done)
+  out.stats = probes;
   constexpr size_t kChunk = 64;  // pixels per parallel task
   // parallel_for polls every 20 ms while a pass runs; passes shorter than that (photon passes of one sample on
   // a small image) poll between them instead, at the same rate, so progress moves and Ctrl-C stops the render.
@@ -380,23 +378,14 @@ RenderResult render_passes(const M& m, const Camera& cam, const RenderOptions& o
           for (auto& seg : outs[k].rec) rec[slot[pix]].push_back(std::move(seg));
       }
       done += int64_t(njobs);
-      for (int k = 0; k < 6; ++k)
-        if (st.counts[k]) counts[k] += st.counts[k];
-      steps += st.steps;
-      segments += st.segments;
-      light_hits += st.light_hits;
-      unsampled_light_hits += st.unsampled_light_hits;
+      const std::lock_guard<std::mutex> lock(stats_mutex);
+      out.stats.add(st);
     };
     if (!parallel_for(nchunks, o.threads, 1, body, poll) || stopped) {
       out.completed = false;
       break;
     }
   }
-  for (int k = 0; k < 6; ++k) out.status_counts[k] = counts[k].load();
-  out.total_steps = steps.load();
-  out.segments = segments.load();
-  out.light_hits = light_hits.load();
-  out.unsampled_light_hits = unsampled_light_hits.load();
   for (auto& r : rec)
     for (auto& seg : r) out.recorded.push_back(std::move(seg));
   return out;

@@ -178,10 +178,8 @@ struct RenderStats {
 struct RenderResult {
   Film film;
   bool completed = true;
-  int64_t status_counts[6] = {0, 0, 0, 0, 0, 0};  // geodesic segments by RayStatus
-  int64_t total_steps = 0;
-  int64_t segments = 0;
-  int64_t light_hits = 0, unsampled_light_hits = 0;  // (RenderStats)
+  // The camera paths' and the probes' counts; `segments` and `steps` also the guide training's and the photons'.
+  RenderStats stats;
   int64_t edge_pixels = 0;         // pixels given max(edge_samples, detail_samples) x spp samples (or more:)
   int64_t bright_edge_pixels = 0;  // ... those of them given kBrightEdgeFactor x that
   int64_t detail_pixels = 0;  // (other) pixels given detail_samples x spp samples
