@@ -307,3 +307,16 @@ def test_a_film_of_another_window_is_refused_by_the_core():
     film = img(native, options)["film"]
     with pytest.raises(ValueError, match="does not cover this window"):
         img(native, dict(options, crop=[0, 0, 2, 3], film=film, sample_begin=1))
+
+
+def test_segments_by_status_add_up_over_the_passes():
+    """Each pass's segments by status are added, as its segments are (they were the last pass's only): flat space
+    without photons counts every segment under one status, so over the passes the two agree."""
+    from warpviz.render.passes import add_stats
+
+    assert add_stats({"segments": 3, "segments_by_status": {"hit": 2, "escaped": 1}},
+                     {"segments": 5, "segments_by_status": {"hit": 4, "escaped": 1}}) == \
+        {"segments": 8, "segments_by_status": {"hit": 6, "escaped": 2}}  # fmt: skip
+    img = wv.render("fig07", **SMALL, spp=8, threads=2, flat=True, photons_per_pixel=0, edge_samples=1)
+    assert img.metadata["passes"] > 1
+    assert sum(img.stats["segments_by_status"].values()) == img.stats["segments"]

@@ -204,8 +204,8 @@ def add_stats(total: dict, add: dict, *,
     and nested counts added, the others (threads, edge and detail pixels of the same window) taken from ``add``."""
     out = dict(total)
     for key, value in add.items():
-        if isinstance(value, dict):
-            out[key] = add_stats(total.get(key, {}), value, summed=summed)
+        if isinstance(value, dict):  # counts by name (segments by status): every one added
+            out[key] = add_stats(total.get(key, {}), value, summed=tuple(value))
         elif key in summed:
             out[key] = total.get(key, 0) + value
         else:
