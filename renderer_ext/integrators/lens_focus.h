@@ -126,8 +126,7 @@ class LensFocus {
     const V3 d = direction(t0_ + span_ * (j + std::min(std::max(in_bin, 0.0), 1.0)) / kBins);
     double a[2], b[2];
     const int k = parts(d, a, b);
-    double total = 0.0;
-    for (int i = 0; i < k; ++i) total += F(b[i]) - F(a[i]);
+    const double total = increments(a, b, k);
     if (!(total > 0.0)) return false;
     double y = u1 * total;
     int i = 0;
@@ -151,12 +150,9 @@ class LensFocus {
     const double angle_density = (cdf_[j + 1] - cdf_[j]) * kBins / span_;
     double a[2], b[2];
     const int k = parts(v / rho, a, b);
-    double total = 0.0;
+    const double total = increments(a, b, k);
     bool on = false;
-    for (int i = 0; i < k; ++i) {
-      total += F(b[i]) - F(a[i]);
-      on = on || (rho >= rho_e_ * a[i] && rho <= rho_e_ * b[i]);
-    }
+    for (int i = 0; i < k; ++i) on = on || (rho >= rho_e_ * a[i] && rho <= rho_e_ * b[i]);
     if (!on || !(total > 0.0)) return 0.0;
     const double u = rho / rho_e_;
     const double mu = (u * u + 2.0) / (u * std::sqrt(u * u + 4.0));
@@ -167,13 +163,18 @@ class LensFocus {
   // F(u) = u sqrt(u^2 + 4) / 2, the primitive of mu(u) u.
   static double F(double u) { return 0.5 * u * std::sqrt(u * u + 4.0); }
 
-  // G: the sum of F's increments over the parts of the ray from B* along unit direction d that lie on the light.
-  double weight_along(V3 d) const {
-    double a[2], b[2];
-    const int k = parts(d, a, b);
+  // The sum of F's increments over the k parts [a_i, b_i] of a ray (parts()).
+  static double increments(const double* a, const double* b, int k) {
     double total = 0.0;
     for (int i = 0; i < k; ++i) total += F(b[i]) - F(a[i]);
     return total;
+  }
+
+  // G: that sum over the parts of the ray from B* along unit direction d that lie on the light.
+  double weight_along(V3 d) const {
+    double a[2], b[2];
+    const int k = parts(d, a, b);
+    return increments(a, b, k);
   }
 
   V3 direction(double t) const { return e1_ * std::cos(t) + e2_ * std::sin(t); }
