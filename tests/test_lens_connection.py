@@ -246,7 +246,8 @@ def test_area_jacobian_matches_traced_bundles(entry):
 @pytest.mark.parametrize("entry", SPHERICAL, ids=lambda e: e["name"])
 def test_the_light_strategys_draw_solves_the_images_it_picks_and_estimates_the_rest(entry):
     """The light strategy draws an image in proportion to estimated weights (LensImagePick): order 0's exact,
-    each later order's from the ray one Newton step on from its start, solved only when drawn. The images it
+    each later order's from the ray one Newton step on from its start (in Schwarzschild's cubic, order 2's
+    extrapolated from order 1's start without an evaluation of its own), solved only when drawn. The images it
     solves are the exact ones (direction and area Jacobian), and the estimated weights are within a few per cent
     of the exact ones (measured in fig07's pairs: 0.99-1.04x; from the start's own ray 0.9-2.6x; here Ellis's
     order 2 to 0.9-1.13x), so it draws about as the exact weights would. Room-like pairs: A on the floor of a

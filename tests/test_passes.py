@@ -162,8 +162,8 @@ def test_resume_refuses_another_scene_or_settings_before_any_work(tmp_path, args
 def test_resume_refuses_an_image_from_before_a_fix_that_changes_its_samples():
     """resume.FIXES: a render records the renderer fixes it has (``settings["fixes"]``); an image written before one
     that changes its render (fig12: a sphere lamp, the sun, with the camera's own light samples round the throat)
-    cannot be continued, one whose render the fix leaves alone can (fig07: quad lamps; fig12 without the camera's
-    light samples)."""
+    cannot be continued, one whose render the fix leaves alone can (fig07: quad lamps, here without the later fixes'
+    focus and first winding; fig12 without the camera's light samples)."""
     def from_before_the_fix(img):
         img.metadata["resume"]["settings"].pop("fixes")
         return img
@@ -171,24 +171,32 @@ def test_resume_refuses_an_image_from_before_a_fix_that_changes_its_samples():
     old = from_before_the_fix(wv.render("fig12", **SMALL, spp=1, threads=2))
     with pytest.raises(ValueError, match="before the camera's own light samples of a sphere lamp were fixed"):
         wv.render("fig12", **SMALL, spp=2, threads=2, resume=old)
-    for room, kw in (("fig07", {"lens_focus": False}), ("fig12", {"camera_light_samples": False})):
+    for room, kw in (("fig07", {"lens_focus": False, "lens_images": 2}), ("fig12", {"camera_light_samples": False})):
         img = from_before_the_fix(wv.render(room, **SMALL, spp=1, threads=2, **kw))
         assert wv.render(room, **SMALL, spp=2, threads=2, resume=img, **kw).metadata["spp"] == 2
 
 
-def test_resume_refuses_an_image_from_before_the_lens_focus_drew_by_magnification():
-    """The lens focus's angles by what the lens magnifies (732f3bc) change the samples of a curved room with the
-    focus (fig07, the Kerr room fig10d): an image from before it cannot be continued; the wormhole's (no mass, no
-    focus) and one rendered without the focus can."""
+@pytest.mark.parametrize("tag, says, unaffected", [
+    # the lens focus's angles by what the lens magnifies (732f3bc): the wormhole has no mass, so no focus
+    ("lens_focus_bins", "before the lens focus drew its angle by what the lens magnifies",
+     (("fig07", {"lens_focus": False}), ("fig13", {}))),
+    # the first winding's weight without an evaluation of the lens map (LensMap::extrapolated_estimate)
+    ("lens_order_extrapolated", "estimated the first winding's weight without evaluating",
+     (("fig07", {"lens_images": 2}), ("fig13", {}))),
+], ids=["lens_focus_bins", "lens_order_extrapolated"])
+def test_resume_refuses_an_image_from_before_a_new_estimator_of_a_curved_room(tag, says, unaffected):
+    """A change of estimator in the lens connection changes the samples of a curved room that uses it (fig07, and
+    the Kerr room fig10d through its proxies): an image from before it cannot be continued; one rendered without
+    what changed, and the wormhole's, can."""
     def from_before(img):
-        img.metadata["resume"]["settings"]["fixes"].remove("lens_focus_bins")
+        img.metadata["resume"]["settings"]["fixes"].remove(tag)
         return img
 
     for room in ("fig07", "fig10d"):
         old = from_before(wv.render(room, **SMALL, spp=1, threads=2))
-        with pytest.raises(ValueError, match="before the lens focus drew its angle by what the lens magnifies"):
+        with pytest.raises(ValueError, match=says):
             wv.render(room, **SMALL, spp=2, threads=2, resume=old)
-    for room, kw in (("fig07", {"lens_focus": False}), ("fig13", {})):
+    for room, kw in unaffected:
         img = from_before(wv.render(room, **SMALL, spp=1, threads=2, **kw))
         assert wv.render(room, **SMALL, spp=2, threads=2, resume=img, **kw).metadata["spp"] == 2
 

@@ -235,6 +235,36 @@ class LensMap {
     return moved_ray(tau, tau, z, target, slope, r);
   }
 
+  // A later order's ray estimated from an earlier order's start s (start_at, evaluated, that order's image at Phi =
+  // prev) without evaluating the map again, where P is Schwarzschild's cubic. Along a branch Phi diverges as
+  // -log(b - b_c) with b - b_c linear in tau_hi - tau, so Phi's slope in z tends to 1; from s's Newton root z_p with
+  // slope s', the image of Phi = target is taken at z_p + dz with dz + (s' - 1)(1 - e^-dz) = target - prev (the
+  // slope relaxing to 1 as 1 + (s' - 1) e^-dz), and its ray moved there as newton_estimate's is. The start of order 1
+  // already lies where the slope is near 1, so order 2's weight comes to ~1 % (median; within 27 % of the exact one
+  // over 40,000 random pairs round holes of 1 to 8 units in a box of 100) for no evaluation; a weight is only the
+  // probability of drawing an image, which is then solved (its Jacobian exact). False (evaluate instead) off the
+  // cubic, where s' is more than kExtrapolateSlope from 1 (a light mass for its distances: the branch is not yet
+  // logarithmic, and the estimate would be anything) or s's own Newton step is longer than kEstimateStep. z: where
+  // the estimate puts the image (a start for solving it).
+  static constexpr double kExtrapolateSlope = 0.2;
+  bool extrapolated_estimate(const LensStart& s, double prev, double target, LensRay& r, double& z) const {
+    if (!(cubic_m_ > 0.0) || !s.ok || !(target > prev)) return false;
+    const double slope = s.dphi_dtau * (tau_hi_ - tau_lo_) * std::exp(-s.z);
+    const double k = slope - 1.0;
+    if (!(std::fabs(k) <= kExtrapolateSlope)) return false;
+    const double zp = s.z + (prev - s.r.phi) / slope;
+    if (!(std::fabs(zp - s.z) <= kEstimateStep && zp >= 0.0)) return false;
+    const double gain = target - prev;
+    double dz = gain;
+    for (int it = 0; it < 4; ++it) {  // Newton on dz + k (1 - e^-dz) = gain (its slope 1 + k e^-dz >= 0.8)
+      const double e = std::exp(-dz);
+      dz -= (dz + k * (1.0 - e) - gain) / (1.0 + k * e);
+    }
+    z = zp + dz;
+    if (!std::isfinite(z)) return false;
+    return moved_ray(tau_at(s.z), tau_at(zp), z, target, 1.0 + k * std::exp(-dz), r);
+  }
+
   // The ray that leaves A at angle psi from the outward radial direction, evaluated forward (no root): its swept
   // azimuth Phi to B's radius and dPhi/dpsi. Not ok where it does not reach B's radius on this map's sheet (it
   // falls in, or passes the throat where B is on A's sheet), or for B inside A's radius (the inward case).

@@ -63,7 +63,12 @@ FIXES = (("camera_light_hit_aim",
           lambda s: bool(s.get("lens_focus")) and s.get("light_connection") != "aimed"
           and s.get("metric") not in ("minkowski", "ellis"),
           "the lens focus drew its angle by what the lens magnifies and nine in ten of the light points (732f3bc, "
-          "2026-12-07: the same mean, another estimator)"),)
+          "2026-12-07: the same mean, another estimator)"),
+         ("lens_order_extrapolated",
+          lambda s: s.get("light_connection") != "aimed" and int(s.get("lens_images") or 0) >= 3
+          and s.get("metric") not in ("minkowski", "ellis", "reissner_nordstrom"),
+          "the lens connection estimated the first winding's weight without evaluating the lens map (2026-12-07: the "
+          "same mean, another draw among the images)"),)
 
 
 def _sphere_lamps(native: dict) -> bool:
