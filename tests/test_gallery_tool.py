@@ -57,6 +57,8 @@ def test_a_quick_gallery_is_built_picture_by_picture_and_resumed(tmp_path, monke
     assert "fig06a_swatch.png" in text and "the picture alone" in text  # the paper's companion, shown
     meta = make_gallery.png_metadata(out / "fig07.png")
     assert meta["time_limit"] is not None and meta["spp"] >= 1
+    assert meta["machine"] == make_gallery._machine()  # the render times' machine, per picture
+    assert f"Render times on {meta['machine']}, every core;" in text
 
     # a picture stopped half-way keeps its passes; the next run continues it with what is left of its budget
     import warpviz as wv
@@ -90,6 +92,18 @@ def test_a_quick_gallery_is_built_picture_by_picture_and_resumed(tmp_path, monke
     assert make_gallery.main([*args, "--only", "fig04"]) == 0
     assert (work / "fig04.exr").stat().st_mtime_ns == before
     np.testing.assert_array_equal(wv.Image.open(work / "fig04.exr").rgb, wv.Image.open(work / "fig04.exr").rgb)
+
+
+def test_the_render_times_name_each_pictures_machine():
+    """A gallery re-rendered in part on another machine says which pictures' times are from which (the most common
+    machine first); a picture from before the machine was recorded is said to have none."""
+    a, b = {"machine": "A (2 cores)"}, {"machine": "B (2 cores)"}
+    metas = {"fig02": a, "fig04": a, "fig07": b, "fig10a": b, "fig05": a, "fig08": {}, "fig09": None}
+    assert make_gallery.machines_line(metas) == (
+        "Render times on A (2 cores), every core (fig07 and fig10a on B (2 cores); fig08: machine not recorded); each "
+        "picture's full-size file is linked.")
+    assert make_gallery.machines_line({"fig02": {"machine": "A"}}) == (
+        "Render times on A, every core; each picture's full-size file is linked.")
 
 
 def test_the_companions_mark_what_the_paper_marks(tmp_path):

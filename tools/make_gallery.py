@@ -203,6 +203,7 @@ def render_picture(scene, short: str, s: dict, *, out: Path, work: Path, log=pri
         if left is not None:
             kwargs["time_limit"] = s["seconds"]
         img = wv.render(scene, **kwargs)
+    img.metadata["machine"] = _machine()  # (the table's render times name it: machines_line)
     img.save(exr)
     if not img.completed:
         raise KeyboardInterrupt
@@ -261,14 +262,39 @@ def _room_row(metas: dict, pictures: Path, readme: Path) -> str:
             "black holes of growing spin at a fixed horizon radius (fig10a-e).\n\n" + "\n".join([head, rule, body]))
 
 
-def write_table(rows: list[str], *, readme: Path, timing: bool, room_row: str) -> None:
-    """Put the gallery table between the README's markers (appending a Gallery section if it has none)."""
+def machines_line(metas: dict) -> str:
+    """The sentence under a timed table naming the machines its render times are from: each picture's own
+    (``metadata["machine"]``, which :func:`render_picture` records; a picture from before it names none), the most
+    common one first and the others with their pictures, e.g. ``"Render times on A (2 cores), every core (fig07 and
+    fig10a on B (2 cores)); ..."``."""
+    by: dict[str, list[str]] = {}
+    for short, meta in metas.items():
+        if meta is not None:
+            by.setdefault(meta.get("machine") or "", []).append(short)
+    named = sorted((m for m in by if m), key=lambda m: -len(by[m]))
+    if not named:
+        return "Render times on every core; each picture's full-size file is linked."
+
+    def pictures(shorts: list[str]) -> str:
+        return shorts[0] if len(shorts) == 1 else ", ".join(shorts[:-1]) + " and " + shorts[-1]
+
+    others = [f"{pictures(by[m])} on {m}" for m in named[1:]]
+    if "" in by:
+        others.append(f"{pictures(by[''])}: machine not recorded")
+    extra = f" ({'; '.join(others)})" if others else ""
+    return f"Render times on {named[0]}, every core{extra}; each picture's full-size file is linked."
+
+
+def write_table(rows: list[str], *, readme: Path, timing: bool, room_row: str, machines: str = "") -> None:
+    """Put the gallery table between the README's markers (appending a Gallery section if it has none);
+    ``machines``: the sentence naming where the render times come from (:func:`machines_line`)."""
     header = ["| picture | command | what it shows |", "|---|---|---|"]
     if timing:
         header = ["| picture | command | what it shows | size, samples, render time |", "|---|---|---|---|"]
     table = "\n".join([*header, *rows])
     if timing:
-        table += f"\n\nRender times on {_machine()}, every core; each picture's full-size file is linked."
+        table += "\n\n" + (machines or f"Render times on {_machine()}, every core; each picture's full-size file is "
+                                        "linked.")
         if room_row:
             table = room_row + "\n\n" + table
     text = readme.read_text() if readme.is_file() else ""
@@ -329,7 +355,8 @@ def main(argv: list[str] | None = None) -> int:
             short = short_name(path)
             rows.append(_row(short, path.relative_to(ROOT).as_posix(), scene_description(path), s,
                              metas.get(short), out, GALLERY, args.readme, timing))  # fmt: skip
-        write_table(rows, readme=args.readme, timing=timing, room_row=_room_row(metas, out, args.readme))
+        write_table(rows, readme=args.readme, timing=timing, room_row=_room_row(metas, out, args.readme),
+                    machines=machines_line(metas))
 
     for path, _, _ in scenes:
         short = short_name(path)
