@@ -276,6 +276,9 @@ class LensImagePick {
   double weight[LensImages::kMax] = {};       // order 0's exact, the later ones' estimated
   double total = 0.0;
 
+  // The azimuth the image of order k sweeps about the centre from v to B (after image(k) found it).
+  double sweep(int k) const { return rays_.ray[k].r.phi; }
+
   // The image of order k solved: its direction at v and its exact area Jacobian |dA_B / dOmega_A|; false where
   // the map has no such root or the image brings nothing to v (from behind the surface or the light).
   bool image(int k, V3& w, double& jac) {
@@ -386,10 +389,12 @@ class LensConnection {
 
 
   // A direction from v towards light number li (of the scene's light list), chosen with probability 1 / per,
-  // and its pdf, with the point aimed at; u1, u2 pick the point, u3 the image.
+  // and its pdf, with the point aimed at and the azimuth its image sweeps about the centre on the way (sweep; -1
+  // as a proposal, whose images are the proxy's); u1, u2 pick the point, u3 the image.
   bool sample(const LensVertex& v, int li, double u1, double u2, double u3, V3& w, double& pdf, V3& target,
-              double per) const {
+              double& sweep, double per) const {
     const int p = sc_.lights[li];
+    sweep = -1.0;
     if (proposal_) return sample_proposal(v, li, u1, u2, u3, w, pdf, target, per);
     const LensFocus f = focus(v, li);
     LightPoint lp;
@@ -407,6 +412,7 @@ class LensConnection {
     if (!(pick.weight[k] > 0.0) || !pick.image(k, w, jac)) return false;
     pdf = pick.weight[k] / pick.total * jac / (lp.area * per);
     target = lp.pos;
+    sweep = pick.sweep(k);
     return pdf > 0.0 && std::isfinite(pdf);
   }
 

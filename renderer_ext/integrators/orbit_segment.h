@@ -31,6 +31,14 @@ struct OrbitEnd {
   V3 dir;
 };
 
+// Where a segment is aimed (a light sample of the lens connection, lens_connection.h): the point on primitive
+// `prim` that the ray reaches after sweeping `sweep` about the centre (its image's Phi; negative: no aim).
+struct OrbitAim {
+  int prim = -1;
+  V3 point;
+  double sweep = -1.0;
+};
+
 template <class M>
 class OrbitSegments {
  public:
@@ -53,18 +61,21 @@ class OrbitSegments {
 
   // The segment of backward chart state y (at user point x = y[1..3]); false where the closed form does
   // not apply (the caller integrates): a start at or below the capture radius, rays near the critical
-  // impact parameter or near-radial ones. dxdl is the ray's coordinate velocity dx/dlambda.
-  bool trace(const double y[8], const double dxdl[3], int sheet, int skip, double skip_dist, OrbitEnd& e) const {
+  // impact parameter or near-radial ones. dxdl is the ray's coordinate velocity dx/dlambda. With an aim the
+  // orbit is searched only up to the aimed point (aimed()).
+  bool trace(const double y[8], const double dxdl[3], int sheet, int skip, double skip_dist, OrbitEnd& e,
+             const OrbitAim& aim = {}) const {
     if constexpr (!kPossible) {
-      (void)y, (void)dxdl, (void)sheet, (void)skip, (void)skip_dist, (void)e;
+      (void)y, (void)dxdl, (void)sheet, (void)skip, (void)skip_dist, (void)e, (void)aim;
       return false;
     } else {
-      return trace_orbit(y, dxdl, sheet, skip, skip_dist, e);
+      return trace_orbit(y, dxdl, sheet, skip, skip_dist, e, aim);
     }
   }
 
  private:
-  bool trace_orbit(const double y[8], const double dxdl[3], int sheet, int skip, double skip_dist, OrbitEnd& e) const {
+  bool trace_orbit(const double y[8], const double dxdl[3], int sheet, int skip, double skip_dist, OrbitEnd& e,
+                   const OrbitAim& aim) const {
     const V3 X(y[1], y[2], y[3]);
     const double r0 = length(X);
     if (!(r0 > capture_ * (1.0 + 1e-9))) return false;
@@ -83,6 +94,7 @@ class OrbitSegments {
     w.skip = skip;
     w.skip_dist = skip_dist;
     w.x0 = X;
+    if (aim.prim >= 0 && aimed(w, b, r0, aim, e)) return true;
 
     // The part of the orbit inside the scene's bounding sphere, and how the ray ends.
     const double u0 = 1.0 / r0, uR = 1.0 / (sc_.bound_radius * (1.0 + 1e-9) + 1e-12);
@@ -105,16 +117,7 @@ class OrbitSegments {
       if (w.piece(a, z, 0, nullptr, 0, prim, phi_hit) < 0) return false;
     }
     if (prim >= 0) {
-      const OrbitPoint h = w.at(phi_hit);
-      double c, s;
-      sin_cos(phi_hit, s, c);
-      const V3 radial = w.e1 * c + w.e2 * s, tangent = w.e2 * c - w.e1 * s;
-      // Travel direction in the static frame: b (-u' r + u sqrt(A) phi), A = 1 - 2M u (a unit vector:
-      // u'^2 + u^2 A = 1 / b^2).
-      e.status = kHit;
-      e.prim = prim;
-      e.pos = h.x;
-      e.dir = normalize(radial * (-h.du * b) + tangent * (h.u * std::sqrt(1.0 - 2.0 * mass_ * h.u) * b));
+      hit(w, b, prim, w.at(phi_hit), e);
       return true;
     }
     if (e.status == kEscaped) {
@@ -308,6 +311,38 @@ class OrbitSegments {
       return chord(a, b, keep, nk, prim, phi_hit);
     }
 
+    // The root of the Taylor parabola in phi of f, the signed distance to a plane of normal n, about orbit point q
+    // where it is f (f'' from the orbit equation u'' = 3 M u^2 - u): the step from q, a bound on how far from the
+    // plane it lands (|f'''| step^3 / 6 with u''' = (6 M u - 1) u', plus the parabola's own residual there), its
+    // point along the orbit's Taylor parabola, and f' at q (0: no step). A Newton step's error is |f''| step^2 / 2:
+    // from the parabola a root ~1e-4 away is within the tolerance where the tangent's was only ~1e-6 away.
+    struct TaylorRoot {
+      double df = 0.0, step = 0.0, error = INFINITY;
+      V3 x;
+    };
+    TaylorRoot taylor_root(const Polar& q, V3 n, double f) const {
+      TaylorRoot r;
+      const V3 dx = q.dx();
+      r.df = dot(n, dx);
+      if (r.df == 0.0) return r;
+      const double df = r.df;
+      const double iu = 1.0 / q.u, iu2 = iu * iu, u1 = q.du, u2 = orb.ddu(q.u), u3 = orb.dddu(q.u, u1);
+      const double P = -iu - u2 * iu2 + 2.0 * u1 * u1 * iu2 * iu, Q = -2.0 * u1 * iu2;
+      const V3 ddx = q.r * P + q.a * Q;  // d2X/dphi2
+      const double dP = u1 * iu2 - u3 * iu2 + 6.0 * u1 * u2 * iu2 * iu - 6.0 * u1 * u1 * u1 * iu2 * iu2,
+                   dQ = -2.0 * u2 * iu2 + 4.0 * u1 * u1 * iu2 * iu;
+      const V3 dddx = q.r * (dP - Q) + q.a * (P + dQ);  // d3X/dphi3
+      const double df2 = dot(n, ddx);
+      double step = -f / df;
+      step = -(f + 0.5 * df2 * step * step) / df;
+      step = -(f + 0.5 * df2 * step * step) / df;  // (two fixed-point steps to the parabola's root)
+      const double miss = std::fabs(f + step * (df + 0.5 * df2 * step));  // the parabola's own, at the step
+      r.step = step;
+      r.error = std::fabs(dot(n, dddx)) * std::fabs(step * step * step) + miss;
+      r.x = q.x() + dx * step + ddx * (0.5 * step * step);
+      return r;
+    }
+
     // Where the orbit crosses the plane of primitive p (normal n) between lo and hi (f(lo) = flo and
     // f(hi) = fhi of opposite signs, f' of one sign), from start: the root of f's Taylor parabola in phi
     // (the orbit's exact first and second derivatives; Newton's step where the parabola's is far longer),
@@ -333,31 +368,17 @@ class OrbitSegments {
           flo = f;
         }
         if (hi - lo <= 1e-15 * (1.0 + std::fabs(hi))) return t;
-        const V3 dx = q.dx();
-        const double df = dot(n, dx);
+        // Close enough that the step to the root of f's Taylor parabola about t is within the tolerance: taken
+        // along the orbit's Taylor parabola instead of evaluating the orbit once more to confirm it.
+        const TaylorRoot tr = taylor_root(q, n, f);
+        const double df = tr.df;
         if (df != 0.0) {
-          // Close enough that the step to the root of f's Taylor parabola about t (f'' from the orbit
-          // equation u'' = 3 M u^2 - u) is within the tolerance, |f'''| step^3 / 6 with u''' = (6 M u - 1) u':
-          // take it along the orbit's Taylor parabola instead of evaluating the orbit once more to confirm
-          // it. (A Newton step's error is |f''| step^2 / 2: from the parabola a root ~1e-4 away is taken
-          // where the tangent took one ~1e-6 away.)
-          const double iu = 1.0 / q.u, iu2 = iu * iu, u1 = q.du, u2 = orb.ddu(q.u), u3 = orb.dddu(q.u, u1);
-          const double P = -iu - u2 * iu2 + 2.0 * u1 * u1 * iu2 * iu, Q = -2.0 * u1 * iu2;
-          const V3 ddx = q.r * P + q.a * Q;  // d2X/dphi2
-          const double dP = u1 * iu2 - u3 * iu2 + 6.0 * u1 * u2 * iu2 * iu - 6.0 * u1 * u1 * u1 * iu2 * iu2,
-                       dQ = -2.0 * u2 * iu2 + 4.0 * u1 * u1 * iu2 * iu;
-          const V3 dddx = q.r * (dP - Q) + q.a * (P + dQ);  // d3X/dphi3
-          const double df2 = dot(n, ddx);
-          double step = -f / df;
-          step = -(f + 0.5 * df2 * step * step) / df;
-          step = -(f + 0.5 * df2 * step * step) / df;  // (two fixed-point steps to the parabola's root)
-          const double next = t + step;
-          const double miss = std::fabs(f + step * (df + 0.5 * df2 * step));  // the parabola's own, at the step
-          if (next > lo && next < hi && std::fabs(dot(n, dddx)) * std::fabs(step * step * step) + miss <= ftol) {
-            at_ = x + dx * step + ddx * (0.5 * step * step);
+          const double next = t + tr.step;
+          if (next > lo && next < hi && tr.error <= ftol) {
+            at_ = tr.x;
             return next;
           }
-          if (std::isfinite(next) && std::fabs(step) <= 2.0 * std::fabs(f / df)) {
+          if (std::isfinite(next) && std::fabs(tr.step) <= 2.0 * std::fabs(f / df)) {
             t = next;
             if (!(t > lo && t < hi)) t = lo + (hi - lo) * flo / (flo - fhi);
             continue;
@@ -426,6 +447,67 @@ class OrbitSegments {
       return piece(mid, b, depth + 1, cand, nc, prim, phi_hit);
     }
   };
+
+  // A hit on primitive p at orbit point h of walk w (impact parameter b): its position and travel direction in the
+  // static frame, b (-u' r + u sqrt(A) phi), A = 1 - 2M u (a unit vector: u'^2 + u^2 A = 1 / b^2).
+  void hit(const Walk& w, double b, int p, const OrbitPoint& h, OrbitEnd& e) const {
+    double c, s;
+    sin_cos(h.phi, s, c);
+    const V3 radial = w.e1 * c + w.e2 * s, tangent = w.e2 * c - w.e1 * s;
+    e.status = kHit;
+    e.prim = p;
+    e.pos = h.x;
+    e.dir = normalize(radial * (-h.du * b) + tangent * (h.u * std::sqrt(1.0 - 2.0 * mass_ * h.u) * b));
+  }
+
+  // An aimed segment (a light sample's): where the orbit passes the aimed point (at the azimuth nearest the image's
+  // sweep at which the point lies; within 1e-5 of its distance, the segment's start being a hair off the vertex the
+  // image was solved from), the light's plane is crossed there, found by one Taylor step from that azimuth; the
+  // orbit is searched for surfaces only up to just before that crossing (1e-9 of its sweep), the aimed light
+  // included (the ray may cross it elsewhere first), and if nothing is met it ends at the crossing on the aimed
+  // primitive. So the part past the light, the azimuth where the orbit leaves the scene (one R_F) and the search
+  // for the light's own crossing (~2.3 orbit evaluations) are not computed. The orbit stays inside the scene all
+  // the way: u rises to the periapsis and falls after it (or rises until the ray falls in), so an orbit that starts
+  // inside and reaches a point inside never left. False (traced as unaimed): the orbit misses the point, the start
+  // is outside the scene, the light is not planar, or the crossing lies off its edge.
+  bool aimed(const Walk& w, double b, double r0, const OrbitAim& aim, OrbitEnd& e) const {
+    if (!(aim.sweep > 0.0) || !(r0 < sc_.bound_radius)) return false;
+    const V3* n = sc_.plane_normal(aim.prim);
+    if (!n) return false;
+    const double ax = dot(aim.point, w.e1), ay = dot(aim.point, w.e2);
+    const double phi_b = aim.sweep + std::remainder(std::atan2(ay, ax) - aim.sweep, kTwoPi);
+    if (!(phi_b > 0.0)) return false;
+    const typename Walk::Polar q = w.polar(phi_b);
+    if (!(std::isfinite(q.u) && q.u > 0.0)) return false;
+    const V3 xb = q.x();
+    const double reach = length(aim.point - w.x0);
+    if (!(length(xb - aim.point) <= 1e-5 * (1.0 + reach))) return false;
+    const typename Walk::TaylorRoot tr = w.taylor_root(q, *n, sc_.implicit_at(aim.prim, xb));
+    if (!(tr.df != 0.0 && tr.error <= 1e-12 * (1.0 + length(w.x0) + reach))) return false;
+    // on the light (its edges), as a crossing found by the walk is tested
+    const double eps = 1e-6 * (1.0 + length(tr.x));
+    const V3 foot = tr.x - *n * sc_.implicit_at(aim.prim, tr.x);
+    double t;
+    if (!sc_.intersect_prim(aim.prim, foot + *n * eps, *n * (-2.0 * eps), 0.0, 1.0, t)) return false;
+    const double phi_x = phi_b + tr.step;
+    const OrbitPoint a = w.at(0.0), z = w.at(phi_x * (1.0 - 1e-9));
+    int prim = -1;
+    double phi_hit = 0.0;
+    if (!(std::isfinite(a.u) && std::isfinite(z.u)) || w.piece(a, z, 0, nullptr, 0, prim, phi_hit) < 0) return false;
+    if (prim >= 0) {
+      hit(w, b, prim, w.at(phi_hit), e);
+      return true;
+    }
+    // the crossing: u and u' there from the orbit's Taylor expansion about phi_b (the step is ~1e-7)
+    const double s = tr.step, ddu = w.orb.ddu(q.u);
+    OrbitPoint h;
+    h.phi = phi_x;
+    h.u = q.u + s * (q.du + 0.5 * s * ddu);
+    h.du = q.du + s * (ddu + 0.5 * s * w.orb.dddu(q.u, q.du));
+    h.x = tr.x;
+    hit(w, b, aim.prim, h, e);
+    return true;
+  }
 
   const Scene& sc_;
   double chord_tol_, escape_radius_;

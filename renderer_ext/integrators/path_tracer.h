@@ -292,8 +292,8 @@ class PathTracer {
         co_return;
       }
       V3 wl, target;
-      double pl;
-      if (!lens_.sample(ps.lens_v, li, u1, u2, u3, wl, pl, target, per)) co_return;
+      double pl, sweep;
+      if (!lens_.sample(ps.lens_v, li, u1, u2, u3, wl, pl, target, sweep, per)) co_return;
       double pb;
       const V3 f = bsdf_eval(mat, albedo, n, wo, wl, pb);
       if (!(max_component(f) > 0.0)) co_return;
@@ -302,8 +302,9 @@ class PathTracer {
       if (!light_roulette(ps, li, f, pl + pb, rng, keep)) co_return;
       Track* light_track = ps.open();
       SegmentEnd le;
+      // (aimed: a closed-form segment searches the orbit only up to the light point, orbit_segment.h)
       co_await segments_.segment(offset(e.pos, sp.normal, n, wl), e.sheet, wl, e.prim, light_track, st, frames, sched,
-                                 le, e.step);
+                                 le, e.step, OrbitAim{sc_.lights[li], target, sweep});
       ps.close(le, e.sheet, bounce + 1, kLightSegment);
       if (lens_.light_sample_hits(le, sc_.lights[li], target) && !retro_light(gathers(mat), wl, le))
         add_light(ps, e, li, ps.beta * f * emission_.emission(le) * (keep / (pl + pb)));

@@ -74,15 +74,18 @@ class SegmentTracer {
   // segment attempts first_step first where the caller has one (the SegmentEnd::step of the segment that ended
   // where this one starts, or the camera's first_step below), instead of the largest step allowed, which the
   // error control rejected ~1.2 times per segment (Kerr-Newman room).
+  // With an aim (a light sample towards a known point), a closed-form segment searches the orbit only up to
+  // that point (OrbitSegments::trace); the end is the same.
   auto segment(V3 x, int sheet, V3 d, int skip, Track* track, RenderStats& st, PathFrames<M>& frames,
-               Scheduler* sched, SegmentEnd& e, double first_step = 0.0) const {
+               Scheduler* sched, SegmentEnd& e, double first_step = 0.0, OrbitAim aim = {}) const {
     if constexpr (M::kFlat) {
       (void)frames;
       (void)sched;
+      (void)aim;
       flat_segment(x, sheet, d, skip, track, st, e);
       return std::suspend_never{};
     } else {
-      return curved_segment(x, sheet, d, skip, track, st, frames, sched, e, first_step);
+      return curved_segment(x, sheet, d, skip, track, st, frames, sched, e, first_step, aim);
     }
   }
 
@@ -127,7 +130,7 @@ class SegmentTracer {
   }
 
   Task<void> curved_segment(V3 x, int sheet, V3 d, int skip, Track* track, RenderStats& st, StartFrames& frames,
-                            Scheduler* sched, SegmentEnd& e, double first_step) const {
+                            Scheduler* sched, SegmentEnd& e, double first_step, OrbitAim aim) const {
     const double skip_dist = 1e-4 * (1.0 + length(x));
     ++st.segments;
     double y[8];
@@ -136,7 +139,7 @@ class SegmentTracer {
       ++st.counts[e.status];
       co_return;
     }
-    if (closed_form_ && !track && orbit_segment(y, sheet, skip, skip_dist, st, e)) co_return;
+    if (closed_form_ && !track && orbit_segment(y, sheet, skip, skip_dist, st, e, aim)) co_return;
     const RayResult res = co_await Geodesic<M, S, SceneSurfaces<M>>(
         m_, sched, y, sheet, topt_, track, SceneSurfaces<M>(m_, sc_, o_.chord_tol, skip, skip_dist), first_step);
     e.status = res.status;
@@ -163,11 +166,12 @@ class SegmentTracer {
   // The segment from backward state y in closed form (orbit_segment.h); false where it does not apply.
   // A hit's state is rebuilt from the orbit: the local direction of travel there, in the static observer's
   // frame, as a momentum with the start's p_t (conserved); its time coordinate is left at the start's.
-  bool orbit_segment(const double y[8], int sheet, int skip, double skip_dist, RenderStats& st, SegmentEnd& e) const {
+  bool orbit_segment(const double y[8], int sheet, int skip, double skip_dist, RenderStats& st, SegmentEnd& e,
+                     const OrbitAim& aim) const {
     double dy[8];
     m_.rhs(y, dy);
     OrbitEnd end;
-    if (!orbits_.trace(y, dy + 1, sheet, skip, skip_dist, end)) return false;
+    if (!orbits_.trace(y, dy + 1, sheet, skip, skip_dist, end, aim)) return false;
     e.status = end.status;
     e.prim = end.prim;
     e.pos = end.pos;
