@@ -293,11 +293,7 @@ class OrbitSegments {
           const V3 n = *q.n;
           V3 x;
           const double th = plane_crossing(q.p, n, a.phi, q.fa, b.phi, q.fb, q.start, 1e-12 * (1.0 + length(a.x) + c), x);
-          const double eps = 1e-6 * (1.0 + length(x));
-          const V3 foot = x - n * s.sc_.implicit_at(q.p, x);
-          double t;
-          if (th < best_phi && s.sc_.intersect_prim(q.p, foot + n * eps, n * (-2.0 * eps), 0.0, 1.0, t) &&
-              !skipped(q.p, x)) {
+          if (th < best_phi && within(q.p, n, x) && !skipped(q.p, x)) {
             best_phi = th;
             best = q.p;
           }
@@ -309,6 +305,15 @@ class OrbitSegments {
       }
       if (h > s.chord_tol_ && depth < kMaxDepth) return halves(a, b, depth, keep, nk, prim, phi_hit);
       return chord(a, b, keep, nk, prim, phi_hit);
+    }
+
+    // Whether point x, on the plane (normal n) of primitive p to within its crossing's tolerance, lies within p's
+    // edges: a short chord through it along the normal, tested exactly against p.
+    bool within(int p, V3 n, V3 x) const {
+      const double eps = 1e-6 * (1.0 + length(x));
+      const V3 foot = x - n * s.sc_.implicit_at(p, x);
+      double t;
+      return s.sc_.intersect_prim(p, foot + n * eps, n * (-2.0 * eps), 0.0, 1.0, t);
     }
 
     // The root of the Taylor parabola in phi of f, the signed distance to a plane of normal n, about orbit point q
@@ -484,11 +489,7 @@ class OrbitSegments {
     if (!(length(xb - aim.point) <= 1e-5 * (1.0 + reach))) return false;
     const typename Walk::TaylorRoot tr = w.taylor_root(q, *n, sc_.implicit_at(aim.prim, xb));
     if (!(tr.df != 0.0 && tr.error <= 1e-12 * (1.0 + length(w.x0) + reach))) return false;
-    // on the light (its edges), as a crossing found by the walk is tested
-    const double eps = 1e-6 * (1.0 + length(tr.x));
-    const V3 foot = tr.x - *n * sc_.implicit_at(aim.prim, tr.x);
-    double t;
-    if (!sc_.intersect_prim(aim.prim, foot + *n * eps, *n * (-2.0 * eps), 0.0, 1.0, t)) return false;
+    if (!w.within(aim.prim, *n, tr.x)) return false;  // (off the light's edge)
     const double phi_x = phi_b + tr.step;
     const OrbitPoint a = w.at(0.0), z = w.at(phi_x * (1.0 - 1e-9));
     int prim = -1;
