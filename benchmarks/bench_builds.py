@@ -30,6 +30,11 @@ defaults of its day:
     python benchmarks/bench_builds.py OLD/warpviz/_core*.so build/*/_core*.so --package-a OLD \
         --renders fig10d:48x36:16 --repeat 4 --seeds 4 --error --scene-a /tmp/old.toml
 
+An option's own gain is the same core run as both builds, one with the option off (``--options-a``, JSON):
+
+    python benchmarks/bench_builds.py --renders fig07:48x36:16 --repeat 5 --seeds 8 --error --ref-spp 1024 \
+        --options-a '{"photon_aim": false}'
+
 Writes ``builds.csv`` (one row per render) to ``--out`` (default benchmarks/results) and prints a table.
 """
 
@@ -56,10 +61,11 @@ FAR_OBSERVERS = {"far-kerr": ("Kerr", {"mass": 1.0, "spin": 0.9}),
                  "far-schwarzschild": ("Schwarzschild", {"mass": 1.0})}
 
 
-def _child(core: str, scene: str, size: str, spp: int, image: str, package: str = "", seeds: int = 0) -> None:
+def _child(core: str, scene: str, size: str, spp: int, image: str, package: str = "", seeds: int = 0,
+           options: str = "{}") -> None:
     """In a fresh process: load ``core`` as warpviz._core (and the warpviz package from the source tree
-    ``package`` where given, instead of the installed one), render on one thread, print the CPU seconds
-    (``seeds`` > 0: that many renders, seeds 1, 2, ..., their images stacked)."""
+    ``package`` where given, instead of the installed one), render on one thread with the render ``options``
+    (JSON), print the CPU seconds (``seeds`` > 0: that many renders, seeds 1, 2, ..., their images stacked)."""
     import importlib.util
     import time
 
@@ -89,10 +95,11 @@ def _child(core: str, scene: str, size: str, spp: int, image: str, package: str 
         np.save(image, np.concatenate([rays.final_directions.ravel(), rays.status.astype(float).ravel()]))
         print(json.dumps({"cpu_s": seconds, "rays": int(len(dirs))}))
         return
+    kw = json.loads(options)
     if seeds > 0:
         wv.render(scene, width=8, height=6, spp=1, seed=0, progress=None, threads=1)  # (a line element compiles)
     t0 = time.process_time()
-    imgs = [wv.render(scene, width=w, height=h, spp=spp, seed=s, progress=None, threads=1).rgb
+    imgs = [wv.render(scene, width=w, height=h, spp=spp, seed=s, progress=None, threads=1, **kw).rgb
             for s in range(1, max(seeds, 1) + 1)]  # fmt: skip
     seconds = (time.process_time() - t0) / len(imgs)
     np.save(image, np.stack(imgs) if seeds > 0 else imgs[0])
@@ -113,11 +120,12 @@ def installed_core() -> Path:
 
 def measure(a: Path, b: Path, renders: list[tuple[str, str, int]], repeat: int,
             packages: dict[str, str] | None = None, seeds: int = 0, ref_spp: int = 0,
-            scenes: dict[str, str] | None = None) -> list[dict]:
+            scenes: dict[str, str] | None = None, options: dict[str, dict] | None = None) -> list[dict]:
     """Times (and with ``ref_spp`` > 0, the errors of) builds a and b on each render, alternating; ``seeds``
-    renders per timing, ``scenes`` a build's own scene file in place of the render's."""
+    renders per timing, ``scenes`` a build's own scene file in place of the render's, ``options`` a build's
+    own render options."""
     rows = []
-    packages, scenes = packages or {}, scenes or {}
+    packages, scenes, options = packages or {}, scenes or {}, options or {}
     with tempfile.TemporaryDirectory() as tmp:
         for scene, size, spp in renders:
             if scene in FAR_OBSERVERS:
@@ -132,7 +140,8 @@ def measure(a: Path, b: Path, renders: list[tuple[str, str, int]], repeat: int,
             for _ in range(repeat):
                 for name, core in (("a", a), ("b", b)):
                     out = subprocess.run([sys.executable, __file__, "--child", str(core), scenes.get(name) or scene,
-                                          size, str(spp), f"{tmp}/{name}.npy", packages.get(name, ""), str(seeds)],
+                                          size, str(spp), f"{tmp}/{name}.npy", packages.get(name, ""), str(seeds),
+                                          json.dumps(options.get(name, {}))],
                                          capture_output=True, text=True)  # fmt: skip
                     if out.returncode != 0:
                         raise SystemExit(f"the render of {scene} with {core} failed:\n{out.stderr}")
@@ -188,6 +197,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     p.add_argument("--ref-spp", type=int, default=512, help="samples of each half of the reference (--error)")
     p.add_argument("--scene-a", default="", help="build A's own scene file in place of the render's scene")
     p.add_argument("--scene-b", default="", help="the same for build B")
+    p.add_argument("--options-a", default="{}", help="build A's own render options, as JSON (e.g. one build with "
+                   "an option off: the same core as both builds)")
+    p.add_argument("--options-b", default="{}", help="the same for build B")
     p.add_argument("--quick", action="store_true", help="one tiny render of each (seconds; for tests)")
     p.add_argument("--out", type=Path, default=RESULTS)
     args = p.parse_args(argv)
@@ -210,7 +222,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
     if args.error:
         seeds = max(seeds, 1)  # (the error needs the stacked images of at least one seed)
     rows = measure(Path(a), Path(b), renders, repeat, {"a": args.package_a, "b": args.package_b}, seeds=seeds,
-                   ref_spp=args.ref_spp if args.error else 0, scenes={"a": args.scene_a, "b": args.scene_b})
+                   ref_spp=args.ref_spp if args.error else 0, scenes={"a": args.scene_a, "b": args.scene_b},
+                   options={"a": json.loads(args.options_a), "b": json.loads(args.options_b)})  # fmt: skip
     print(f"A = {a}\nB = {b}")
     print(f"{'scene':8s} {'size':>9s} {'spp':>4s} {'A min/med s':>13s} {'B min/med s':>13s} {'A/B min':>8s} "
           f"{'A/B med':>8s}  identical")  # fmt: skip
@@ -232,7 +245,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
 if __name__ == "__main__":
     if len(sys.argv) > 1 and sys.argv[1] == "--child":
         _child(sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5]), sys.argv[6], sys.argv[7],
-               int(sys.argv[8]) if len(sys.argv) > 8 else 0)
+               int(sys.argv[8]) if len(sys.argv) > 8 else 0, sys.argv[9] if len(sys.argv) > 9 else "{}")
     else:
         main()
     raise SystemExit(0)

@@ -130,14 +130,15 @@ def render_both(scene, **kw):
 
 @pytest.mark.parametrize("name", ["fig07_schwarzschild_cornell", "fig08_glass_ball_black_hole"])
 def test_a_room_renders_the_same_image_in_closed_form(name):
-    """Same seeds, so the same paths: pixel by pixel, equal to the integrator's tolerance. (Without fig08's
+    """Same seeds, so the same paths: pixel by pixel, equal to the integrator's tolerance. (Without the rooms'
     photons: a gather's radius reaches to its 16th nearest photon, so photons moved by the tolerance move it, and
     the photons' own test is tests/test_photon_mapping.py; without the camera's own light samples, whose rays
     follow the lamp's images of order 2 and 3, where the integrator's error grows e^(2 pi) a winding and one
     such ray in a lamp pixel may land on the lamp in closed form and beside it integrated.)"""
     scene = load_scene(f"scenes/{name}.toml")
     a, b = render_both(scene, width=40, height=30, spp=4, edge_samples=1, threads=2, photons=0,
-                       camera_light_samples=False)
+                       photons_per_pixel=0.0, camera_light_samples=False)
+    assert a.stats["photon_passes"] == 0 and b.stats["photon_passes"] == 0  # (the scenes' own density off too)
     assert b.stats["steps"] < 0.01 * a.stats["steps"]  # (a few segments start below the capture radius)
     rel = np.abs(a.rgb - b.rgb).sum(-1) / (np.abs(a.rgb).sum(-1) + 1e-9)
     assert np.median(rel) < 1e-5

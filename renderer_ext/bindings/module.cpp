@@ -294,6 +294,35 @@ std::shared_ptr<const wv::GuideTree> guide_from(nb::handle h) {
   return g;
 }
 
+// The photons' marks (integrators/photon_aim.h) as the dict a render returns as "photon_aim" (offsets, cells), and
+// back: the later ranges of the render are handed them instead of learning them again.
+nb::dict photon_aim_to_dict(const wv::PhotonAim& a) {
+  std::vector<int64_t> offsets;
+  std::vector<uint16_t> cells;
+  a.to_arrays(offsets, cells);
+  nb::dict d;
+  const size_t no = offsets.size(), nc = cells.size();
+  d["offsets"] = to_numpy(std::move(offsets), {no});
+  d["cells"] = to_numpy(std::move(cells), {nc});
+  return d;
+}
+
+std::shared_ptr<const wv::PhotonAim> photon_aim_from(nb::handle h) {
+  auto bad = [](const std::string& why) { return std::invalid_argument("render option 'photon_aim_marks': " + why); };
+  nb::dict d;
+  nb::ndarray<const int64_t, nb::c_contig, nb::device::cpu> offsets;
+  nb::ndarray<const uint16_t, nb::c_contig, nb::device::cpu> cells;
+  if (!nb::try_cast(h, d)) throw bad("must be the dict a render returned as 'photon_aim'");
+  if (!d.contains("offsets") || !nb::try_cast(d["offsets"], offsets) || offsets.ndim() != 1)
+    throw bad("'offsets' must be a 1-d int64 array");
+  if (!d.contains("cells") || !nb::try_cast(d["cells"], cells) || cells.ndim() != 1)
+    throw bad("'cells' must be a 1-d uint16 array");
+  auto a = std::make_shared<wv::PhotonAim>();
+  std::string why;
+  if (!a->from_arrays(offsets.data(), offsets.size(), cells.data(), cells.size(), why)) throw bad(why);
+  return a;
+}
+
 nb::dict render(nb::dict scene, nb::dict options) {
   std::string metric;
   std::vector<double> params;
@@ -368,6 +397,9 @@ nb::dict render(nb::dict scene, nb::dict options) {
               int64_t(std::llround(per_pixel * double(sc.camera.width) * double(sc.camera.height)));
   o.photon_radius = option<double>(options, "photon_radius");
   o.retro_photons = option<bool>(options, "retro_photons");
+  o.photon_aim = option<bool>(options, "photon_aim");
+  if (options.contains("photon_aim_marks") && !options["photon_aim_marks"].is_none())
+    o.photon_aim_marks = photon_aim_from(options["photon_aim_marks"]);
   if (options.contains("guide") && !options["guide"].is_none()) {
     o.guide = guide_from(options["guide"]);
     if (o.guide->lights() != 0 && o.guide->lights() != sc.light_count())
@@ -437,6 +469,7 @@ nb::dict render(nb::dict scene, nb::dict options) {
   out["pixel_classes"] = to_numpy(std::move(r.pixel_classes), {nclasses});
   out["completed"] = r.completed && !interrupted;
   if (r.guide && !r.guide->empty()) out["guide"] = guide_to_dict(*r.guide);
+  if (r.photon_aim && r.photon_aim->active()) out["photon_aim"] = photon_aim_to_dict(*r.photon_aim);
   nb::dict counts;
   for (int k = 0; k < wv::kNumStatuses; ++k) counts[wv::kStatusNames[k]] = r.stats.counts[k];
   stats["segments_by_status"] = counts;

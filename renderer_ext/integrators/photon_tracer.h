@@ -30,6 +30,9 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/parallel.h"
@@ -37,6 +40,7 @@
 #include "core/task.h"
 #include "core/vec3.h"
 #include "integrators/chart_geometry.h"
+#include "integrators/photon_aim.h"
 #include "integrators/photon_map.h"
 #include "integrators/render_types.h"
 #include "integrators/sample_scheduler.h"
@@ -78,12 +82,29 @@ class PhotonTracer {
       cdf_.push_back(total += w);
     }
     for (double& c : cdf_) c /= total;
+    if (o.photon_aim && !lights_.empty()) {
+      if (o.photon_aim_marks) {
+        if (o.photon_aim_marks->lights() != lights_.size())
+          throw std::invalid_argument("render option 'photon_aim_marks' holds the marks of " +
+                                      std::to_string(o.photon_aim_marks->lights()) + " photon lights; this scene has " +
+                                      std::to_string(lights_.size()));
+        aim_ = o.photon_aim_marks;
+      } else {
+        auto built = std::make_shared<PhotonAim>();
+        build_aim(*built);
+        aim_ = built;
+      }
+    }
   }
 
   // Whether prim p sends photons (a light that does not beam): the caustics its light makes on diffuse
   // surfaces are the photons', so the path tracer leaves them out.
   bool sends_photons(int p) const { return p >= 0 && size_t(p) < emits_.size() && emits_[p]; }
   bool any_light() const { return !lights_.empty(); }
+  // The photons' marks (PhotonAim; null without photon_aim), and the segments learning them cost here (none where
+  // they were handed in).
+  const std::shared_ptr<const PhotonAim>& aim() const { return aim_; }
+  const RenderStats& aim_stats() const { return aim_stats_; }
 
   // The light a hole turns back (o.retro_photons): whether a segment that reached photon light `prim`, or left
   // it, turned by more than 120 degrees between its ends (its directions of travel there, each in its local
@@ -153,8 +174,209 @@ class PhotonTracer {
     return std::isfinite(w) && w > 0.0 ? w : 0.0;
   }
 
+  // Where a photon leaves an area light (the point drawn by (u1, u2), the side by us): its user-frame point, the
+  // surface there, the local-frame normal and that of the side it leaves from, and pi A J sides (A the light's
+  // user-frame area, J = dA_proper / dA_user there).
+  struct Start {
+    V3 pos, nl, nl_out;
+    SurfacePoint sp;
+    double scale = 0.0;
+    int side = 0;  // (PhotonAim's: 1 the back of a two-sided light)
+  };
+  bool start_at(int p, double u1, double u2, double us, Start& s) const {
+    const Prim& pr = sc_.prims[p];
+    const Material& mat = sc_.materials[pr.material];
+    LightPoint lp;
+    if (pr.kind == PrimKind::kSphere) {  // the whole sphere
+      const Sphere& sph = sc_.spheres[pr.index];
+      const double z = 1.0 - 2.0 * u1, rxy = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = kTwoPi * u2;
+      lp.normal = {rxy * std::cos(phi), rxy * std::sin(phi), z};
+      lp.pos = sph.center + lp.normal * sph.radius;
+      lp.area = 2.0 * kTwoPi * sph.radius * sph.radius;
+    } else if (!sample_light_point(sc_, p, {0, 0, 0}, u1, u2, lp)) {
+      return false;
+    }
+    const bool two = mat.kind == MaterialKind::kEmissive && mat.two_sided;
+    s.side = two && us < 0.5 ? 1 : 0;
+    const V3 n_out = s.side ? -lp.normal : lp.normal;  // the side the photon leaves from
+    s.pos = lp.pos;
+    s.sp = sc_.surface(p, lp.pos);
+    s.nl = s.sp.normal;
+    s.nl_out = n_out;  // local frame: the surface's normal and the side's
+    double J = 1.0;
+    if constexpr (!M::kFlat) {
+      const StartFrames::Entry f = geo_.start_frame(lp.pos, pr.sheet);
+      if (!f.ok) return false;
+      s.nl = geo_.local_normal(f.x4, f.f, s.sp.normal);
+      s.nl_out = dot(n_out, s.sp.normal) >= 0.0 ? s.nl : -s.nl;
+      const LinearMap L = geo_.local_map(f.x4, f.f);
+      V3 t, b;
+      basis_around(s.sp.normal, t, b);
+      J = length(cross(L(t), L(b)));
+    }
+    s.scale = M_PI * lp.area * J * (two ? 2.0 : 1.0);
+    return true;
+  }
+
+  // PhotonAim::draw, where there are marks.
+  double draw_direction(size_t l, int part, double& v1, double& v2) const {
+    return aim_ ? aim_->draw(l, part, v1, v2) : 1.0;
+  }
+
+  // A point light's direction (local frame) from the emission square's (v1, v2): uniform in its sky or its cone
+  // (c: the cosine to its axis).
+  V3 point_direction(size_t k, double v1, double v2, double& c) const {
+    const PointLight& pl = sc_.point_lights[k];
+    c = 1.0 - v1 * (1.0 - (pl.spot ? pl.cos_outer : -1.0));
+    const double phi = kTwoPi * v2, s = std::sqrt(std::max(0.0, 1.0 - c * c));
+    V3 t, b;
+    basis_around(point_frames_[k].axis_local, t, b);
+    return point_frames_[k].axis_local * c + t * (s * std::cos(phi)) + b * (s * std::sin(phi));
+  }
+
+  // PhotonAim's marks: rays from each part of each light along the middles of the emission square's cells, in
+  // rounds (the coarse cells; the fine cells of those that reached something; the flood round the fine cells
+  // that did), each round's rays traced in parallel as the photons are.
+  void build_aim(PhotonAim& aim) {
+    using A = PhotonAim;
+    constexpr int N = A::kFine * A::kFine;
+    aim.resize(lights_.size());
+    struct Ray {
+      uint32_t unit;  // light slot x A::kParts + part
+      uint16_t cell;  // a coarse cell (I + kCoarse J) or a fine one (i + kFine j)
+      bool fine;
+    };
+    const size_t units = lights_.size() * A::kParts;
+    std::vector<std::vector<char>> traced(units), reached(units);
+    std::vector<Ray> rays;
+    for (size_t l = 0; l < lights_.size(); ++l) {
+      const int p = lights_[l];
+      const bool two = p >= 0 && sc_.materials[sc_.prims[p].material].kind == MaterialKind::kEmissive &&
+                       sc_.materials[sc_.prims[p].material].two_sided;
+      for (int part = 0; part < A::kParts; ++part) {
+        int i, j, side;
+        A::part_cell(part, i, j, side);
+        if ((p < 0 && part != 0) || (side == 1 && !two)) continue;  // (a point light: one part)
+        const size_t u = l * A::kParts + size_t(part);
+        traced[u].assign(N, 0);
+        reached[u].assign(N, 0);
+        for (int c = 0; c < A::kCoarse * A::kCoarse; ++c) rays.push_back({uint32_t(u), uint16_t(c), false});
+      }
+    }
+    auto push_fine = [&](std::vector<Ray>& next, size_t u, int i, int j) {
+      j = (j + A::kFine) % A::kFine;  // (the azimuth wraps round)
+      if (i < 0 || i >= A::kFine || traced[u][size_t(i + A::kFine * j)]) return;
+      traced[u][size_t(i + A::kFine * j)] = 1;
+      next.push_back({uint32_t(u), uint16_t(i + A::kFine * j), true});
+    };
+    while (!rays.empty()) {
+      std::vector<char> useful(rays.size(), 0);
+      constexpr size_t kChunk = 256;
+      const size_t nchunks = (rays.size() + kChunk - 1) / kChunk;
+      std::vector<RenderStats> chunk_stats(nchunks);
+      auto body = [&](size_t c) {
+        const size_t k0 = c * kChunk, k1 = std::min(rays.size(), k0 + kChunk);
+        auto make = [&](size_t k, Scheduler* sched) { return aim_ray(rays[k0 + k], useful[k0 + k], chunk_stats[c], sched); };
+        run_samples<M, S>(m_, o_.batch, k1 - k0, make);
+      };
+      parallel_for(nchunks, o_.threads, 1, body);
+      for (const RenderStats& st : chunk_stats) aim_stats_.add(st);
+      std::vector<Ray> next;
+      std::vector<std::vector<int>> coarse(units);
+      for (size_t k = 0; k < rays.size(); ++k) {
+        const Ray& r = rays[k];
+        if (!r.fine) {
+          if (useful[k]) coarse[r.unit].push_back(r.cell);
+          continue;
+        }
+        if (!useful[k]) continue;
+        reached[r.unit][r.cell] = 1;
+        const int i = r.cell % A::kFine, j = r.cell / A::kFine;
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int di = -1; di <= 1; ++di) push_fine(next, r.unit, i + di, j + dj);
+        if (i == 0)  // (the axis: every cell of the first ring touches it)
+          for (int jj = 0; jj < A::kFine; ++jj) push_fine(next, r.unit, 0, jj);
+      }
+      for (size_t u = 0; u < units; ++u) {
+        if (coarse[u].empty()) continue;
+        const bool flood = int(coarse[u].size()) <= A::kFloodLimit;
+        for (const int c : coarse[u]) {  // its fine cells; too many: marked whole, grown by one coarse cell
+          const int I = c % A::kCoarse, J = c / A::kCoarse, g = flood ? 0 : 1;
+          for (int dJ = -g; dJ <= g; ++dJ)
+            for (int dI = -g; dI <= g; ++dI)
+              for (int b = 0; b < A::kRatio; ++b)
+                for (int a = 0; a < A::kRatio; ++a) {
+                  const int i = (I + dI) * A::kRatio + a, j = (J + dJ) * A::kRatio + b;
+                  if (flood) {
+                    push_fine(next, u, i, j);
+                  } else if (i >= 0 && i < A::kFine) {
+                    const size_t f = size_t(i + A::kFine * ((j + A::kFine) % A::kFine));
+                    traced[u][f] = reached[u][f] = 1;
+                  }
+                }
+        }
+      }
+      rays = std::move(next);
+    }
+    // The marks: the fine cells that reached something, grown by one.
+    for (size_t u = 0; u < units; ++u) {
+      if (reached[u].empty()) continue;
+      std::vector<char> mark(N, 0);
+      for (int c = 0; c < N; ++c) {
+        if (!reached[u][size_t(c)]) continue;
+        const int i = c % A::kFine, j = c / A::kFine;
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int di = -1; di <= 1; ++di)
+            if (i + di >= 0 && i + di < A::kFine) mark[size_t(i + di + A::kFine * ((j + dj + A::kFine) % A::kFine))] = 1;
+        if (i == 0)
+          for (int jj = 0; jj < A::kFine; ++jj) mark[size_t(A::kFine * jj)] = 1;
+      }
+      std::vector<uint16_t>& m = aim.marks(u / A::kParts, int(u % A::kParts));
+      for (int c = 0; c < N; ++c)
+        if (mark[size_t(c)]) m.push_back(uint16_t(c));
+      if (int(m.size()) == N) m.clear();  // (everything: nothing to aim at)
+    }
+  }
+
+  // One of PhotonAim's rays: from a point of its part of the light (spread over it) along its cell's middle;
+  // `useful` if a photon sent there could be stored (follow): it reaches a mirror or glass, or a diffuse surface
+  // turned back by the hole where photons carry that light.
+  template <class Ray>
+  Task<void> aim_ray(const Ray& r, char& useful, RenderStats& st, Scheduler* sched) const {
+    using A = PhotonAim;
+    const size_t l = r.unit / A::kParts;
+    const int part = int(r.unit % A::kParts), p = lights_[l];
+    const int cells = r.fine ? A::kFine : A::kCoarse;
+    const double v1 = (r.cell % cells + 0.5) / cells, v2 = (r.cell / cells + 0.5) / cells;
+    V3 x, w;
+    int sheet;
+    if (p < 0) {
+      double c;
+      w = point_direction(size_t(-1 - p), v1, v2, c);
+      x = sc_.point_lights[size_t(-1 - p)].pos;
+      sheet = sc_.point_lights[size_t(-1 - p)].sheet;
+    } else {
+      int i, j, side;
+      A::part_cell(part, i, j, side);
+      double a, b;
+      A::spread(r.cell + (r.fine ? A::kCoarse * A::kCoarse : 0), a, b);
+      Start s;
+      if (!start_at(p, (i + a) / A::kPointCells, (j + b) / A::kPointCells, side ? 0.25 : 0.75, s)) co_return;
+      w = cosine_direction(s.nl_out, v1, v2);
+      x = offset(s.pos, s.sp.normal, s.nl, w);
+      sheet = sc_.prims[p].sheet;
+    }
+    PathFrames<M> frames;
+    SegmentEnd e;
+    co_await segments_.segment(x, sheet, w, p < 0 ? -1 : p, nullptr, st, frames, sched, e);
+    if (e.status != kHit) co_return;
+    const Material& hm = sc_.materials[sc_.prims[e.prim].material];
+    useful = hm.kind == MaterialKind::kDiffuse ? retro_segment(p, w, e.dir) : hm.is_delta();
+  }
+
   // Photon i of pass j (n photons in the pass): into `out`, with `stored` set, if it reaches a diffuse surface
-  // after at least one specular vertex within o.max_depth segments.
+  // after at least one specular vertex within o.max_depth segments. Its direction is drawn in the emission
+  // square of its part of the light (aim_.draw), its flux divided by that draw's density ratio.
   Task<void> trace(uint64_t seed, int64_t j, int64_t i, double n, RenderStats& st, Scheduler* sched, Photon& out,
                    char& stored) const {
     Rng rng(seed, uint64_t(j), uint64_t(i));
@@ -166,51 +388,29 @@ class PhotonTracer {
     const int p = lights_[li];
     if (p < 0) {  // a point or spot light: a direction uniform in its sky or its cone, in its local frame
       const PointLight& pl = sc_.point_lights[size_t(-1 - p)];
-      const PointLightFrame& pf = point_frames_[size_t(-1 - p)];
-      const double c = 1.0 - rng.uniform() * (1.0 - (pl.spot ? pl.cos_outer : -1.0)), phi = kTwoPi * rng.uniform();
-      const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
-      V3 t, b;
-      basis_around(pf.axis_local, t, b);
-      const V3 w = pf.axis_local * c + t * (s * std::cos(phi)) + b * (s * std::sin(phi));
-      const V3 power = pl.intensity * (pl.profile(c) * pl.solid_angle() / (p_light * n));
+      double v1 = rng.uniform();
+      double v2 = rng.uniform();
+      const double ratio = draw_direction(li, 0, v1, v2);
+      double c;
+      const V3 w = point_direction(size_t(-1 - p), v1, v2, c);
+      const V3 power = pl.intensity * (pl.profile(c) * pl.solid_angle() / (p_light * n * ratio));
       if (!(max_component(power) > 0.0)) co_return;
       co_await follow(pl.pos, pl.sheet, w, -1, power, rng, st, sched, out, stored);
       co_return;
     }
-    const Prim& pr = sc_.prims[p];
-    const Material& mat = sc_.materials[pr.material];
     // A point on it by area, and the side it leaves from.
     const double u1 = rng.uniform(), u2 = rng.uniform(), us = rng.uniform();
-    LightPoint lp;
-    if (pr.kind == PrimKind::kSphere) {  // the whole sphere
-      const Sphere& s = sc_.spheres[pr.index];
-      const double z = 1.0 - 2.0 * u1, rxy = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = kTwoPi * u2;
-      lp.normal = {rxy * std::cos(phi), rxy * std::sin(phi), z};
-      lp.pos = s.center + lp.normal * s.radius;
-      lp.area = 2.0 * kTwoPi * s.radius * s.radius;
-    } else if (!sample_light_point(sc_, p, {0, 0, 0}, u1, u2, lp)) {
-      co_return;
-    }
-    const bool two = mat.kind == MaterialKind::kEmissive && mat.two_sided;
-    const V3 n_out = two && us < 0.5 ? -lp.normal : lp.normal;  // the side the photon leaves from
-    const SurfacePoint sp = sc_.surface(p, lp.pos);
-    V3 nl = sp.normal, nl_out = n_out;  // local frame: the surface's normal and the side's
-    double J = 1.0;
-    if constexpr (!M::kFlat) {
-      const StartFrames::Entry f = geo_.start_frame(lp.pos, pr.sheet);
-      if (!f.ok) co_return;
-      nl = geo_.local_normal(f.x4, f.f, sp.normal);
-      nl_out = dot(n_out, sp.normal) >= 0.0 ? nl : -nl;
-      const LinearMap L = geo_.local_map(f.x4, f.f);
-      V3 t, b;
-      basis_around(sp.normal, t, b);
-      J = length(cross(L(t), L(b)));
-    }
-    const V3 w = cosine_direction(nl_out, rng.uniform(), rng.uniform());
-    const V3 Le = sc_.emitted(p, sp, nl, w);
-    const V3 power = Le * (M_PI * lp.area * J * (two ? 2.0 : 1.0) / (p_light * n));
+    Start s;
+    if (!start_at(p, u1, u2, us, s)) co_return;
+    double v2 = rng.uniform();  // (drawn in this order before the aim: the same photons without it)
+    double v1 = rng.uniform();
+    const double ratio = draw_direction(li, PhotonAim::part(u1, u2, s.side), v1, v2);
+    const V3 w = cosine_direction(s.nl_out, v1, v2);
+    const V3 Le = sc_.emitted(p, s.sp, s.nl, w);
+    const V3 power = Le * (s.scale / (p_light * n * ratio));
     if (!(max_component(power) > 0.0)) co_return;
-    co_await follow(offset(lp.pos, sp.normal, nl, w), pr.sheet, w, p, power, rng, st, sched, out, stored);
+    co_await follow(offset(s.pos, s.sp.normal, s.nl, w), sc_.prims[p].sheet, w, p, power, rng, st, sched, out,
+                    stored);
   }
 
   // A photon of flux `power` from user-frame point x on `sheet` along local direction d (leaving prim `skip`),
@@ -264,6 +464,8 @@ class PhotonTracer {
   std::vector<int> lights_;   // the prims that send photons, and point light k as -1 - k
   std::vector<double> cdf_;   // their choice by power, cumulative
   bool retro_;                // photons carry the light a hole turns back (retro_segment)
+  std::shared_ptr<const PhotonAim> aim_;  // where photons are worth sending (o.photon_aim; null: everywhere alike)
+  RenderStats aim_stats_;     // the segments its marks cost
 };
 
 }  // namespace wv

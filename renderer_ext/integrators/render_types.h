@@ -11,6 +11,7 @@
 #include "film/film.h"
 #include "film/pixel_filter.h"
 #include "integrators/guide_tree.h"
+#include "integrators/photon_aim.h"
 #include "spacetime/geodesic.h"
 
 namespace wv {
@@ -82,6 +83,11 @@ struct RenderOptions {
   // ... and the light a hole turns back onto diffuse surfaces (a segment that turned by more than 120 degrees
   // from a photon light), stored by the same passes, which the path tracer then leaves to them.
   bool retro_photons = false;
+  // ... and sent where they can be stored (photon_aim.h: a projection map of each light learnt before the first
+  // pass; their flux divided by the density ratio).
+  bool photon_aim = false;
+  // The marks an earlier range of the same render learnt (RenderResult::photon_aim): used instead of learning.
+  std::shared_ptr<const PhotonAim> photon_aim_marks;
   int filter = kBoxFilter;     // pixel reconstruction filter (film/pixel_filter.h), by importance sampling
   double filter_radius = 0.0;  // its support's half-width in pixels
   bool batch = false;      // curved space: step the geodesics of many samples together in SIMD lanes
@@ -189,6 +195,7 @@ struct RenderResult {
   std::vector<RecordedSegment> recorded;
   std::shared_ptr<const GuideTree> guide;  // path guiding's tree (trained here, or the one handed in)
   int64_t guide_segments = 0;              // segments its training traced here (also in `segments`)
+  std::shared_ptr<const PhotonAim> photon_aim;  // the photons' marks (photon_aim.h: learnt here, or handed in)
   int64_t photon_segments = 0;             // segments the photons traced (also in `segments`)
   int64_t photon_passes = 0;               // photon passes traced
   int64_t photons_stored = 0;              // photons stored, over all passes

@@ -118,20 +118,22 @@ def _tile_pass(native: dict, options: dict, tile: tuple, state: dict | None, ext
     x, y, w, h = tile
     opts = {**options, **extra, "crop": [x, y, w, h], "progress": None,
             "film": None if state is None else state["film"],
-            "pixel_classes": None if state is None else state["pixel_classes"]}  # fmt: skip
+            "pixel_classes": None if state is None else state["pixel_classes"],
+            "photon_aim_marks": None if state is None else state.get("photon_aim")}  # fmt: skip
     record = options.get("record_pixels")
     if record is not None:
         inside = (record[:, 0] >= x) & (record[:, 0] < x + w) & (record[:, 1] >= y) & (record[:, 1] < y + h)
         opts["record_pixels"] = np.ascontiguousarray(record[inside]) if inside.any() else None
     raw = core.render(native, opts)
-    return {"film": raw["film"], "pixel_classes": raw["pixel_classes"], "completed": bool(raw["completed"]),
+    return {"film": raw["film"], "pixel_classes": raw["pixel_classes"], "photon_aim": raw.get("photon_aim"),
+            "completed": bool(raw["completed"]),
             "stats": raw["stats"], "rays": raw.get("rays"), "noise_parts": tuple(core.film_noise_parts(raw["film"])),
             "samples": int(raw["film"]["samples"].sum())}  # fmt: skip
 
 
 def _summary(result: dict) -> dict:
     """What the client needs of a tile's pass: all but its film."""
-    return {k: v for k, v in result.items() if k not in ("film", "pixel_classes")}
+    return {k: v for k, v in result.items() if k not in ("film", "pixel_classes", "photon_aim")}
 
 
 def _worker_facts() -> dict:

@@ -105,6 +105,7 @@ def render(
     photons_per_pixel: float | None = None,
     photon_radius: float | None = None,
     retro_photons: bool | None = None,
+    photon_aim: bool | None = None,
     aovs=None,
     crop=None,
     progress: Callable[[int, int], object] | None = None,
@@ -300,6 +301,13 @@ def render(
         cannot draw it, and BSDF samples that find it speckle the ceiling above a lamp; photons bring it
         smoothly (slightly blurred, as every photon gather). Where the light connection is the exact lens
         map (static spherical metrics) it draws that light itself, and keeps it. Flat space has no such light.
+    photon_aim : bool, optional, keyword-only
+        With photons: each photon light's projection map, learnt before the first pass from rays along its
+        emission directions, sends four in five photons where they can be stored (towards mirrors and glass,
+        and with ``retro_photons`` round the hole), their flux divided by the density ratio (default True).
+        In fig07 97 % of the photons were otherwise lost on the walls and in the hole, and the glass ball's
+        caustic, bent round the hole onto the floor in front of it, held a third of the image's error at
+        16 spp. Unbiased either way.
     batch : bool, optional, keyword-only
         In curved space, step the geodesics of many samples together in SIMD lanes (default True,
         1.5-1.9x faster). The image is bit-identical either way.
@@ -387,7 +395,7 @@ def render(
                  "max_drift": max_drift, "chord_tolerance": chord_tolerance,
                  "segment_method": segment_method, "guide_training": guide_training, "photons": photons,
                  "photons_per_pixel": photons_per_pixel, "photon_radius": photon_radius,
-                 "retro_photons": retro_photons}  # fmt: skip
+                 "retro_photons": retro_photons, "photon_aim": photon_aim}  # fmt: skip
     for key, value in overrides.items():
         if value is not None:
             options[key] = value
@@ -489,7 +497,10 @@ def render(
     trained_s = time.perf_counter() - t0
 
     def render_range(extra: dict) -> dict:
-        return core.render(native, {**core_options, **extra})
+        raw = core.render(native, {**core_options, **extra})
+        if raw.get("photon_aim") is not None:  # the photons' marks, learnt by the first range: handed to the others
+            core_options["photon_aim_marks"] = raw["photon_aim"]
+        return raw
 
     pass_samples = PASS_SAMPLES
 

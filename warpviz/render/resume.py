@@ -40,16 +40,18 @@ RESUME_SETTINGS = ("seed", "max_depth", "rr_depth", "light_sampling", "stepper",
                    "lens_focus", "camera_light_samples", "light_roulette",
                    "pixel_sampler", "stratified_paths", "edge_samples", "detail_samples", "filter", "filter_radius",
                    "aim_lights", "light_margin", "pilot_tol", "guide_training", "photons", "photons_per_pixel",
-                   "photon_radius", "retro_photons", "crop")  # fmt: skip
+                   "photon_radius", "retro_photons", "photon_aim", "crop")  # fmt: skip
 
 #: What an image written before a setting existed was rendered with (``detail_samples``: none had more;
 #: ``guide_training``: none was guided; ``photons``: none traced photons, so their radius never mattered;
 #: ``camera_light_samples``: the camera drew none; ``light_roulette``: every light sample was traced;
 #: ``lens_focus``: every light point was drawn by area; ``stratified_paths``: only the camera points were
-#: stratified; ``retro_photons``: the path tracer kept the light a hole turns back).
+#: stratified; ``retro_photons``: the path tracer kept the light a hole turns back; ``photon_aim``: photons
+#: were sent by the cosine alone).
 IMPLIED_SETTINGS = {"detail_samples": 1, "guide_training": 0, "photons": 0, "photons_per_pixel": 0.0,
                     "photon_radius": 2.0, "camera_light_samples": False, "light_roulette": 0.0, "lens_focus": False,
-                    "stratified_paths": False, "retro_photons": False}
+                    "stratified_paths": False, "retro_photons": False,
+                    "photon_aim": False}
 
 
 #: Renderer fixes that change what some samples add without a setting to name them: (tag, which renders they
