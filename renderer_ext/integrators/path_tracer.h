@@ -523,28 +523,13 @@ class PathTracer {
     if (!(footprint > 0.0) || pass.map.size() == 0 || segments < least) return {0, 0, 0};
     const V3 side = e.surface.normal * arrival_side(e);
     auto usable = [&](const Photon& p) { return p.segments <= segments && dot(p.n_in, side) > 0.5; };
-    // The disk of one footprint first: where it holds kGatherNeighbours usable photons (a caustic's focus, or
-    // one of aimed photons: photon_aim.h) the k-th nearest is within it and r is the footprint's, without the
-    // nearest-neighbour search (the same photons, summed in the same order).
-    double r = footprint * std::sqrt(pass.r2_factor);
+    const double reach =
+        first ? pass.map.kth_distance(e.pos, e.sheet, kGatherNeighbours, kGatherReach * footprint, usable) : 0.0;
+    const double r = std::max(footprint, reach) * std::sqrt(pass.r2_factor);
     V3 flux{0, 0, 0};
-    int near = 0;
-    const double r2 = r * r;
-    pass.map.for_each_near(e.pos, e.sheet, first ? footprint : r, [&](const Photon& p, double d2) {
-      if (!usable(p)) return;
-      ++near;
-      if (d2 <= r2) flux += p.power;
+    pass.map.for_each_near(e.pos, e.sheet, r, [&](const Photon& p) {
+      if (usable(p)) flux += p.power;
     });
-    if (first && near < kGatherNeighbours) {
-      const double reach = pass.map.kth_distance(e.pos, e.sheet, kGatherNeighbours, kGatherReach * footprint, usable);
-      if (reach > footprint) {
-        r = reach * std::sqrt(pass.r2_factor);
-        flux = {0, 0, 0};
-        pass.map.for_each_near(e.pos, e.sheet, r, [&](const Photon& p, double) {
-          if (usable(p)) flux += p.power;
-        });
-      }
-    }
     if (!(max_component(flux) > 0.0)) return {0, 0, 0};
     double J = 1.0;  // proper area over user-frame area of the surface here
     if constexpr (!M::kFlat) {

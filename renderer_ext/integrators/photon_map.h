@@ -69,8 +69,7 @@ class PhotonMap {
     return n < k ? r_max : std::sqrt(heap[0]);
   }
 
-  // Calls f(photon, its squared distance) for every photon on `sheet` within distance r of x (user frame), in the
-  // tree's order.
+  // Calls f(photon) for every photon on `sheet` within distance r of x (user frame), in the tree's order.
   template <class F>
   void for_each_near(V3 x, int sheet, double r, F&& f) const {
     if (photons_.empty()) return;
@@ -139,8 +138,7 @@ class PhotonMap {
       const size_t m = (lo + hi) / 2;
       const Photon& p = photons_[m];
       const V3 d = p.pos - x;
-      const double d2 = dot(d, d);
-      if (p.sheet == sheet && d2 <= r2) f(p, d2);
+      if (p.sheet == sheet && dot(d, d) <= r2) f(p);
       const int axis = nodes_[m];
       const double delta = x[axis] - p.pos[axis];
       // The near side first (by recursion), then the far one if the sphere reaches it (by the loop).
