@@ -305,3 +305,18 @@ def test_photon_aim_off_is_the_unaimed_render_and_bad_marks_are_refused():
     with pytest.raises(ValueError, match="photon_aim_marks"):
         core.render(sc, {**options, "photon_aim_marks": {"offsets": marks["offsets"], "cells": marks["cells"][::-1]
                                                           .copy()}})  # fmt: skip
+
+
+def test_a_lamp_of_many_pieces_marks_only_its_most_powerful_ones():
+    """The marks cost ~1,000 rays a part of a light; a lamp of 100 quads (an emissive mesh is one light a triangle)
+    gets them for its most powerful pieces, 64 parts in all (photon_aim.h: kMaxParts), the rest unaimed."""
+    sc = glass_ball()
+    lamp = sc["shapes"].pop(2)
+    for i in range(10):
+        for j in range(10):
+            sc["shapes"].append({**lamp, "corner": [-0.3 + 0.06 * i, 1.3 - 0.06 * j, 2.4], "edge_u": [0.06, 0, 0],
+                                 "edge_v": [0, -0.06, 0]})  # fmt: skip
+    aimed = wv.render(sc, spp=1, seed=1, max_depth=6, photons=200)
+    plain = wv.render(sc, spp=1, seed=1, max_depth=6, photons=200, photon_aim=False)
+    assert aimed.stats["photons_stored"] > plain.stats["photons_stored"]
+    assert aimed.stats["photon_segments"] < 64 * 1024  # (all 400 parts: over 100,000 rays)

@@ -42,6 +42,7 @@ class PhotonAim {
   static constexpr double kAimShare = 0.8;     // the share of photons drawn within the marks
   static constexpr int kFloodLimit = kCoarse * kCoarse / 4;
   static constexpr int kParts = 2 * kPointCells * kPointCells;  // per light: sides x cells
+  static constexpr int kMaxParts = 64;  // parts marked in a scene, the most powerful lights' first
 
   bool active() const { return !marks_.empty(); }
   void resize(size_t lights) { marks_.assign(lights * kParts, {}); }

@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -249,10 +250,20 @@ class PhotonTracer {
     const size_t units = lights_.size() * A::kParts;
     std::vector<std::vector<char>> traced(units), reached(units);
     std::vector<Ray> rays;
-    for (size_t l = 0; l < lights_.size(); ++l) {
+    // The lights by power, as many as A::kMaxParts parts allow (an emissive mesh's thousand triangles would cost a
+    // thousand lights' rays: the rest send their photons unaimed).
+    std::vector<size_t> order(lights_.size());
+    std::iota(order.begin(), order.end(), size_t(0));
+    auto share = [&](size_t l) { return cdf_[l] - (l > 0 ? cdf_[l - 1] : 0.0); };
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return share(a) > share(b); });
+    int parts_left = A::kMaxParts;
+    for (const size_t l : order) {
       const int p = lights_[l];
       const bool two = p >= 0 && sc_.materials[sc_.prims[p].material].kind == MaterialKind::kEmissive &&
                        sc_.materials[sc_.prims[p].material].two_sided;
+      const int parts = p < 0 ? 1 : (two ? 2 : 1) * A::kPointCells * A::kPointCells;
+      if (parts > parts_left) continue;
+      parts_left -= parts;
       for (int part = 0; part < A::kParts; ++part) {
         int i, j, side;
         A::part_cell(part, i, j, side);
@@ -276,7 +287,9 @@ class PhotonTracer {
       std::vector<RenderStats> chunk_stats(nchunks);
       auto body = [&](size_t c) {
         const size_t k0 = c * kChunk, k1 = std::min(rays.size(), k0 + kChunk);
-        auto make = [&](size_t k, Scheduler* sched) { return aim_ray(rays[k0 + k], useful[k0 + k], chunk_stats[c], sched); };
+        auto make = [&](size_t k, Scheduler* sched) {
+          return aim_ray(rays[k0 + k], useful[k0 + k], chunk_stats[c], sched);
+        };
         run_samples<M, S>(m_, o_.batch, k1 - k0, make);
       };
       parallel_for(nchunks, o_.threads, 1, body);
