@@ -86,7 +86,8 @@ class PhotonAim {
     const int j = std::clamp(int(u2 * kPointCells), 0, kPointCells - 1);
     return (side * kPointCells + j) * kPointCells + i;
   }
-  // The middle of a part's cell (the rays that mark it start at points spread over it: spread()).
+  // A part's cell of the sampling square (i, j) and its side (the rays that mark it start at points spread over the
+  // cell: spread()).
   static void part_cell(int part, int& i, int& j, int& side) {
     i = part % kPointCells;
     j = (part / kPointCells) % kPointCells;
@@ -96,6 +97,18 @@ class PhotonAim {
   static void spread(int k, double& a, double& b) {
     a = std::fmod(0.5 + 0.7548776662466927 * double(k), 1.0);
     b = std::fmod(0.5 + 0.5698402909980532 * double(k), 1.0);
+  }
+
+  // Calls f(cell) for fine cell c (i + kFine j) and each fine cell that touches it: the azimuth j wraps round, and
+  // the cells of the first ring (i = 0) all meet at the axis.
+  template <class F>
+  static void around(int c, F&& f) {
+    const int i = c % kFine, j = c / kFine;
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di)
+        if (i + di >= 0 && i + di < kFine) f(i + di + kFine * ((j + dj + kFine) % kFine));
+    if (i == 0)
+      for (int jj = 0; jj < kFine; ++jj) f(kFine * jj);
   }
 
   // The marked fine cells (i + kFine j, ascending) of part p of light slot l.

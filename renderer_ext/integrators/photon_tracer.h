@@ -274,11 +274,10 @@ class PhotonTracer {
         for (int c = 0; c < A::kCoarse * A::kCoarse; ++c) rays.push_back({uint32_t(u), uint16_t(c), false});
       }
     }
-    auto push_fine = [&](std::vector<Ray>& next, size_t u, int i, int j) {
-      j = (j + A::kFine) % A::kFine;  // (the azimuth wraps round)
-      if (i < 0 || i >= A::kFine || traced[u][size_t(i + A::kFine * j)]) return;
-      traced[u][size_t(i + A::kFine * j)] = 1;
-      next.push_back({uint32_t(u), uint16_t(i + A::kFine * j), true});
+    auto push_fine = [&](std::vector<Ray>& next, size_t u, int c) {
+      if (traced[u][size_t(c)]) return;
+      traced[u][size_t(c)] = 1;
+      next.push_back({uint32_t(u), uint16_t(c), true});
     };
     while (!rays.empty()) {
       std::vector<char> useful(rays.size(), 0);
@@ -304,11 +303,7 @@ class PhotonTracer {
         }
         if (!useful[k]) continue;
         reached[r.unit][r.cell] = 1;
-        const int i = r.cell % A::kFine, j = r.cell / A::kFine;
-        for (int dj = -1; dj <= 1; ++dj)
-          for (int di = -1; di <= 1; ++di) push_fine(next, r.unit, i + di, j + dj);
-        if (i == 0)  // (the axis: every cell of the first ring touches it)
-          for (int jj = 0; jj < A::kFine; ++jj) push_fine(next, r.unit, 0, jj);
+        A::around(r.cell, [&](int c) { push_fine(next, r.unit, c); });
       }
       for (size_t u = 0; u < units; ++u) {
         if (coarse[u].empty()) continue;
@@ -321,7 +316,7 @@ class PhotonTracer {
                 for (int a = 0; a < A::kRatio; ++a) {
                   const int i = (I + dI) * A::kRatio + a, j = (J + dJ) * A::kRatio + b;
                   if (flood) {
-                    push_fine(next, u, i, j);
+                    push_fine(next, u, i + A::kFine * j);
                   } else if (i >= 0 && i < A::kFine) {
                     const size_t f = size_t(i + A::kFine * ((j + A::kFine) % A::kFine));
                     traced[u][f] = reached[u][f] = 1;
@@ -336,13 +331,7 @@ class PhotonTracer {
       if (reached[u].empty()) continue;
       std::vector<char> mark(N, 0);
       for (int c = 0; c < N; ++c) {
-        if (!reached[u][size_t(c)]) continue;
-        const int i = c % A::kFine, j = c / A::kFine;
-        for (int dj = -1; dj <= 1; ++dj)
-          for (int di = -1; di <= 1; ++di)
-            if (i + di >= 0 && i + di < A::kFine) mark[size_t(i + di + A::kFine * ((j + dj + A::kFine) % A::kFine))] = 1;
-        if (i == 0)
-          for (int jj = 0; jj < A::kFine; ++jj) mark[size_t(A::kFine * jj)] = 1;
+        if (reached[u][size_t(c)]) A::around(c, [&](int f) { mark[size_t(f)] = 1; });
       }
       std::vector<uint16_t>& m = aim.marks(u / A::kParts, int(u % A::kParts));
       for (int c = 0; c < N; ++c)
