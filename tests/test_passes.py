@@ -201,6 +201,24 @@ def test_resume_refuses_an_image_from_before_a_new_estimator_of_a_curved_room(ta
         assert wv.render(room, **SMALL, spp=2, threads=2, resume=img, **kw).metadata["spp"] == 2
 
 
+def test_photon_settings_matter_to_resume_only_where_photons_were_traced():
+    """resume.PHOTON_SETTINGS: an image from before ``photon_aim`` existed (implied false) that traced no photons
+    continues with today's default aim and another photon radius (they change nothing there); one that traced
+    photons is refused, naming the setting, and so is a render that adds photons to one without."""
+    def from_before_the_aim(img):
+        img.metadata["resume"]["settings"].pop("photon_aim")
+        return img
+
+    plain = from_before_the_aim(wv.render("fig07", **SMALL, spp=1, threads=2, photons_per_pixel=0.0))
+    resumed = wv.render("fig07", **SMALL, spp=2, threads=2, photons_per_pixel=0.0, photon_radius=3.0, resume=plain)
+    assert resumed.metadata["spp"] == 2
+    with_photons = from_before_the_aim(wv.render("fig07", **SMALL, spp=1, threads=2, photons_per_pixel=0.3))
+    with pytest.raises(ValueError, match="photon_aim = false; this render has photon_aim = true"):
+        wv.render("fig07", **SMALL, spp=2, threads=2, photons_per_pixel=0.3, resume=with_photons)
+    with pytest.raises(ValueError, match="photons_per_pixel"):
+        wv.render("fig07", **SMALL, spp=2, threads=2, photons_per_pixel=0.3, resume=plain)
+
+
 def test_resume_refuses_a_foreign_or_missing_exr(tmp_path):
     import OpenEXR
 

@@ -30,7 +30,7 @@ import numpy as np
 from warpviz._native import core
 from warpviz.render.image import read_exr  # here too: resuming starts from one
 
-__all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "FIXES", "scene_sha256", "resume_settings", "read_exr",
+__all__ = ["RESUME_SETTINGS", "IMPLIED_SETTINGS", "PHOTON_SETTINGS", "FIXES", "scene_sha256", "resume_settings", "read_exr",
            "saved_resume", "resume_problem", "film_from_image", "sample_multiples"]
 
 #: The render options that decide what each sample adds (so a resumed image must have been rendered with
@@ -52,6 +52,11 @@ IMPLIED_SETTINGS = {"detail_samples": 1, "guide_training": 0, "photons": 0, "pho
                     "photon_radius": 2.0, "camera_light_samples": False, "light_roulette": 0.0, "lens_focus": False,
                     "stratified_paths": False, "retro_photons": False,
                     "photon_aim": False}
+
+#: The settings that change a render only where it traces photons (``photons`` or ``photons_per_pixel`` above 0):
+#: compared only where the image or the render does, so that an image rendered without photons before one of
+#: them existed can still be continued with today's defaults.
+PHOTON_SETTINGS = ("photon_radius", "retro_photons", "photon_aim")
 
 
 #: Renderer fixes that change what some samples add without a setting to name them: (tag, which renders they
@@ -166,9 +171,13 @@ def resume_problem(img, *, settings: dict, sha256: str, aovs: list[str] | None, 
     old = saved.get("settings", {})
     if scene is not None and meta.get("scene") is not None and Path(meta["scene"]).name != Path(scene).name:
         return f"{name} was rendered from another scene ({Path(meta['scene']).name}; this render is of {Path(scene).name})"
+    def traces_photons(s: dict) -> bool:
+        return float(s.get("photons") or 0) > 0 or float(s.get("photons_per_pixel") or 0) > 0
+
+    photons = traces_photons(settings) or traces_photons({**IMPLIED_SETTINGS, **old})
     for key in ("size", "metric", "metric_params", *RESUME_SETTINGS):
         was = old.get(key, IMPLIED_SETTINGS.get(key))
-        if was != settings.get(key):
+        if was != settings.get(key) and (photons or key not in PHOTON_SETTINGS):
             return f"{name} was rendered with {key} = {_show(was)}; this render has {key} = {_show(settings.get(key))}"
     if saved.get("scene_sha256") != sha256:
         where = f" ({Path(meta['scene']).name})" if meta.get("scene") else ""
