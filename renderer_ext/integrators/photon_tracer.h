@@ -59,6 +59,7 @@ template <class M, class S>
 class PhotonTracer {
  public:
   using Scheduler = SampleScheduler<M, S>;
+  static constexpr size_t kTaskPhotons = 256;  // photons (or the aim's rays) per parallel task
   // Flat and static spherical metrics trace photons as backward segments (the same spatial path, and their
   // closed forms); any other is integrated forward in time.
   static constexpr bool kTimeSymmetric = M::kFlat || M::kStaticSpherical;
@@ -124,30 +125,22 @@ class PhotonTracer {
   // Pass j's photon map: o.photons photons traced in parallel, stored in photon order. False: cancelled.
   bool pass(int64_t j, const std::function<bool()>& poll, PhotonMap& map, RenderStats& stats) const {
     const size_t n = size_t(std::max<int64_t>(0, o_.photons));
-    constexpr size_t kChunk = 256;  // photons per parallel task
-    const size_t nchunks = (n + kChunk - 1) / kChunk;
-    std::vector<std::vector<Photon>> stored(nchunks);
-    std::vector<RenderStats> chunk_stats(nchunks);
-    const uint64_t seed = photon_seed(o_.seed);
-    auto body = [&](size_t c) {
-      const size_t i0 = c * kChunk, i1 = std::min(n, i0 + kChunk);
-      std::vector<Photon> out(i1 - i0);
-      std::vector<char> hit(i1 - i0, 0);
-      auto make = [&](size_t k, Scheduler* sched) {
-        return trace(seed, j, int64_t(i0 + k), double(n), chunk_stats[c], sched, out[k], hit[k]);
-      };
-      run_samples<M, S>(m_, o_.batch, i1 - i0, make);
-      for (size_t k = 0; k < out.size(); ++k)
-        if (hit[k]) stored[c].push_back(out[k]);
-    };
     if (lights_.empty() || n == 0) {
       map = PhotonMap();
       return true;
     }
-    if (!parallel_for(nchunks, o_.threads, 1, body, poll)) return false;
+    const uint64_t seed = photon_seed(o_.seed);
+    std::vector<Photon> out(n);
+    std::vector<char> hit(n, 0);
+    std::vector<RenderStats> task_stats;
+    auto make = [&](size_t i, RenderStats& st, Scheduler* sched) {
+      return trace(seed, j, int64_t(i), double(n), st, sched, out[i], hit[i]);
+    };
+    if (!run_tasks<M, S>(m_, o_.batch, o_.threads, n, kTaskPhotons, task_stats, make, poll)) return false;
     std::vector<Photon> all;
-    for (auto& s : stored) all.insert(all.end(), s.begin(), s.end());
-    for (const RenderStats& st : chunk_stats) {
+    for (size_t i = 0; i < n; ++i)
+      if (hit[i]) all.push_back(out[i]);
+    for (const RenderStats& st : task_stats) {
       stats.segments += st.segments;
       stats.steps += st.steps;
     }
@@ -281,18 +274,10 @@ class PhotonTracer {
     };
     while (!rays.empty()) {
       std::vector<char> useful(rays.size(), 0);
-      constexpr size_t kChunk = 256;
-      const size_t nchunks = (rays.size() + kChunk - 1) / kChunk;
-      std::vector<RenderStats> chunk_stats(nchunks);
-      auto body = [&](size_t c) {
-        const size_t k0 = c * kChunk, k1 = std::min(rays.size(), k0 + kChunk);
-        auto make = [&](size_t k, Scheduler* sched) {
-          return aim_ray(rays[k0 + k], useful[k0 + k], chunk_stats[c], sched);
-        };
-        run_samples<M, S>(m_, o_.batch, k1 - k0, make);
-      };
-      parallel_for(nchunks, o_.threads, 1, body);
-      for (const RenderStats& st : chunk_stats) aim_stats_.add(st);
+      std::vector<RenderStats> task_stats;
+      run_tasks<M, S>(m_, o_.batch, o_.threads, rays.size(), kTaskPhotons, task_stats,
+                      [&](size_t k, RenderStats& st, Scheduler* sched) { return aim_ray(rays[k], useful[k], st, sched); });
+      for (const RenderStats& st : task_stats) aim_stats_.add(st);
       std::vector<Ray> next;
       std::vector<std::vector<int>> coarse(units);
       for (size_t k = 0; k < rays.size(); ++k) {

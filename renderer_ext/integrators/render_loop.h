@@ -84,24 +84,18 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
                                    const Probe& probe, bool edges, bool details, const std::function<bool()>& poll,
                                    bool& cancelled, RenderStats& stats, const std::vector<double>& images = {},
                                    double bright = INFINITY) {
-  std::mutex stats_mutex;
-  // Probes through image points point(k, x, y), k < count, into out, in parallel chunks; false if cancelled.
+  // Probes through image points point(k, x, y), k < count, into out, in parallel tasks; false if cancelled.
   auto run_probes = [&](size_t count, const auto& point, std::vector<ProbeHit>& out) {
     out.assign(count, ProbeHit{});
-    constexpr size_t kChunk = 256;  // probes per parallel task
-    auto body = [&](size_t c) {
-      const size_t k0 = c * kChunk, k1 = std::min(count, k0 + kChunk);
-      RenderStats st;
-      auto make = [&](size_t k, SampleScheduler<M, S>* sched) {
-        double x, y;
-        point(k0 + k, x, y);
-        return probe(x, y, st, sched, out[k0 + k]);
-      };
-      run_samples<M, S>(m, o.batch, k1 - k0, make);
-      const std::lock_guard<std::mutex> lock(stats_mutex);
-      stats.add(st);
-    };
-    return parallel_for((count + kChunk - 1) / kChunk, o.threads, 1, body, poll);
+    std::vector<RenderStats> task_stats;
+    const bool done = run_tasks<M, S>(m, o.batch, o.threads, count, 256, task_stats,
+                                      [&](size_t k, RenderStats& st, SampleScheduler<M, S>* sched) {
+                                        double x, y;
+                                        point(k, x, y);
+                                        return probe(x, y, st, sched, out[k]);
+                                      }, poll);
+    for (const RenderStats& st : task_stats) stats.add(st);
+    return done;
   };
   std::vector<int64_t> classes;
   const size_t LW = size_t(2 * W + 1), LH = size_t(2 * H + 1);
