@@ -523,13 +523,17 @@ class PathTracer {
     if (!(footprint > 0.0) || pass.map.size() == 0 || segments < least) return {0, 0, 0};
     const V3 side = e.surface.normal * arrival_side(e);
     auto usable = [&](const Photon& p) { return p.segments <= segments && dot(p.n_in, side) > 0.5; };
-    const double reach =
-        first ? pass.map.kth_distance(e.pos, e.sheet, kGatherNeighbours, kGatherReach * footprint, usable) : 0.0;
-    const double r = std::max(footprint, reach) * std::sqrt(pass.r2_factor);
+    double r;
     V3 flux{0, 0, 0};
-    pass.map.for_each_near(e.pos, e.sheet, r, [&](const Photon& p) {
-      if (usable(p)) flux += p.power;
-    });
+    if (first) {
+      flux = pass.map.flux_near(e.pos, e.sheet, kGatherNeighbours, footprint, kGatherReach * footprint,
+                                std::sqrt(pass.r2_factor), usable, r);
+    } else {
+      r = footprint * std::sqrt(pass.r2_factor);
+      pass.map.for_each_near(e.pos, e.sheet, r, [&](const Photon& p) {
+        if (usable(p)) flux += p.power;
+      });
+    }
     if (!(max_component(flux) > 0.0)) return {0, 0, 0};
     double J = 1.0;  // proper area over user-frame area of the surface here
     if constexpr (!M::kFlat) {

@@ -56,17 +56,32 @@ class PhotonMap {
   size_t size() const { return photons_.size(); }
   const std::vector<Photon>& photons() const { return photons_; }
 
-  // The distance from x to the k-th nearest photon on `sheet` that `ok(photon)` accepts (k <= kMaxNeighbours),
-  // or r_max where fewer than k lie within r_max.
+  // A gather whose disk widens to hold k photons, in one traversal: r = max(r_min, reach) * scale (scale <= 1),
+  // reach the distance from x to the k-th nearest photon on `sheet` that `ok(photon)` accepts (k <=
+  // kMaxNeighbours; r_max where fewer than k lie within r_max), and the sum of the powers of the accepted photons
+  // within r, added in for_each_near's order: the same sum to the bit as finding reach first and then calling
+  // for_each_near with r. Where reach <= r_min the sum is the one of the photons within r_min * scale,
+  // gathered on the way; else the photons within r are among the k nearest, kept with the order they were met in.
   static constexpr int kMaxNeighbours = 64;
   template <class Ok>
-  double kth_distance(V3 x, int sheet, int k, double r_max, Ok&& ok) const {
-    double heap[kMaxNeighbours];  // the k smallest squared distances so far, a max-heap once full
+  V3 flux_near(V3 x, int sheet, int k, double r_min, double r_max, double scale, Ok&& ok, double& r) const {
+    Near heap[kMaxNeighbours];  // the k nearest so far, a max-heap in distance once full
     int n = 0;
     k = std::clamp(k, 1, kMaxNeighbours);
     double worst = r_max * r_max;
-    if (!photons_.empty()) nearest(0, photons_.size(), x, sheet, k, ok, heap, n, worst);
-    return n < k ? r_max : std::sqrt(heap[0]);
+    const double r_near = r_min * scale, near2 = r_near * r_near;
+    V3 flux{0, 0, 0};
+    uint32_t met = 0;
+    if (!photons_.empty()) nearest(0, photons_.size(), x, sheet, k, ok, heap, n, worst, near2, flux, met);
+    const double reach = n < k ? r_max : std::sqrt(heap[0].d2);
+    r = std::max(r_min, reach) * scale;
+    if (!(reach > r_min)) return flux;  // (r = r_near)
+    std::sort(heap, heap + n, [](const Near& a, const Near& b) { return a.met < b.met; });
+    const double r2 = r * r;
+    flux = {0, 0, 0};
+    for (int i = 0; i < n; ++i)
+      if (heap[i].d2 <= r2) flux += photons_[heap[i].index].power;
+    return flux;
   }
 
   // Calls f(photon) for every photon on `sheet` within distance r of x (user frame), in the tree's order.
@@ -99,34 +114,47 @@ class PhotonMap {
     build(idx, m + 1, hi);
   }
 
+  struct Near {
+    double d2;
+    uint32_t met, index;  // the order the traversal met it in; the photon
+  };
+  // flux_near's traversal: the k nearest accepted photons within sqrt(worst) into heap (n of them), and the
+  // powers of those within sqrt(near2) into flux, in search's order (the same node order; a side is skipped
+  // only where neither reaches it).
   template <class Ok>
-  void nearest(size_t lo, size_t hi, V3 x, int sheet, int k, Ok& ok, double* heap, int& n, double& worst) const {
+  void nearest(size_t lo, size_t hi, V3 x, int sheet, int k, Ok& ok, Near* heap, int& n, double& worst, double near2,
+               V3& flux, uint32_t& met) const {
+    auto farther = [](const Near& a, const Near& b) { return a.d2 < b.d2; };
     while (hi > lo) {
       const size_t m = (lo + hi) / 2;
       const Photon& p = photons_[m];
       const V3 d = p.pos - x;
       const double d2 = dot(d, d);
-      if (d2 < worst && p.sheet == sheet && ok(p)) {
-        if (n < k) {
-          heap[n++] = d2;
-          std::push_heap(heap, heap + n);
-          if (n == k) worst = std::min(worst, heap[0]);
-        } else {
-          std::pop_heap(heap, heap + n);
-          heap[n - 1] = d2;
-          std::push_heap(heap, heap + n);
-          worst = heap[0];
+      if ((d2 < worst || d2 <= near2) && p.sheet == sheet && ok(p)) {
+        if (d2 <= near2) flux += p.power;
+        const Near e{d2, met++, uint32_t(m)};
+        if (d2 < worst) {
+          if (n < k) {
+            heap[n++] = e;
+            std::push_heap(heap, heap + n, farther);
+            if (n == k) worst = std::min(worst, heap[0].d2);
+          } else {
+            std::pop_heap(heap, heap + n, farther);
+            heap[n - 1] = e;
+            std::push_heap(heap, heap + n, farther);
+            worst = heap[0].d2;
+          }
         }
       }
       const int axis = nodes_[m];
-      const double delta = x[axis] - p.pos[axis];
+      const double delta = x[axis] - p.pos[axis], delta2 = delta * delta;
       if (delta <= 0.0) {
-        nearest(lo, m, x, sheet, k, ok, heap, n, worst);
-        if (delta * delta >= worst) return;
+        nearest(lo, m, x, sheet, k, ok, heap, n, worst, near2, flux, met);
+        if (delta2 >= worst && delta2 > near2) return;
         lo = m + 1;
       } else {
-        nearest(m + 1, hi, x, sheet, k, ok, heap, n, worst);
-        if (delta * delta >= worst) return;
+        nearest(m + 1, hi, x, sheet, k, ok, heap, n, worst, near2, flux, met);
+        if (delta2 >= worst && delta2 > near2) return;
         hi = m;
       }
     }
