@@ -11,12 +11,15 @@ not noise; the mean and the median pixel). The rooms' caustics by photons are le
 
 With ``--efficiency`` it measures instead gravity's cost in efficiency (issue 37's second target): each room
 rendered flat and curved with its defaults (photons included) at 48 x 36, 16 spp, one thread, over ``--seeds``
-seeds (the two variants alternating), each against its own reference (``--ref-spp`` samples in two halves whose
+seeds (the two variants alternating), each against its reference (``--ref-spp`` samples in two halves whose
 noise is subtracted, as the light-connection benchmark does); efficiency = 1 / (relative MSE x CPU seconds), and
-the cost is the flat room's efficiency over the curved one's. Writes ``gravity_efficiency.csv``.
+the cost is the flat room's efficiency over the curved one's. The references are unbiased by default: path traced
+without photons (``--reference unbiased``), so a photon map's blur counts as error, as it does in the picture;
+``--reference own`` renders them with the rooms' defaults, photons included, which hides that bias in both (and
+made the aim's sharper caustics look like gravity's cost falling). Writes ``gravity_efficiency.csv``.
 
 Usage: ``python benchmarks/bench_gravity_cost.py [--quick] [--rooms fig07,fig10d] [--reps 3] [--out DIR]``
-(``--efficiency [--seeds 8] [--ref-spp 1024]``); writes ``gravity_cost.csv`` into ``--out`` (default
+(``--efficiency [--seeds 8] [--ref-spp 1024] [--reference unbiased|own]``); writes ``gravity_cost.csv`` into ``--out`` (default
 ``benchmarks/results``) and prints the table.
 """
 
@@ -32,7 +35,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import warpviz as wv  # noqa: E402
-from _common import RESULTS, Reference, machine_line, timed, write_csv  # noqa: E402
+from _common import RESULTS, UNBIASED, Reference, machine_line, timed, write_csv  # noqa: E402
 
 ROOMS = {"fig07": "fig07_schwarzschild_cornell", "fig10d": "fig10d_kerr_cornell_a09"}
 VARIANTS = ("flat", "integrate", "closed_form")
@@ -70,13 +73,19 @@ def run(room: str, *, size: tuple[int, int], spp: int, reps: int) -> list[dict]:
     return rows
 
 
-def efficiency(room: str, *, size: tuple[int, int], spp: int, seeds: int, ref_spp: int) -> list[dict]:
-    """Gravity's cost in efficiency: the room flat and curved (its defaults), each against its own reference."""
+REFERENCES = {"unbiased": UNBIASED, "own": {}}
+
+
+def efficiency(room: str, *, size: tuple[int, int], spp: int, seeds: int, ref_spp: int,
+               reference: str = "unbiased") -> list[dict]:
+    """Gravity's cost in efficiency: the room flat and curved (its defaults), each against its reference (of
+    :data:`REFERENCES`: path traced without photons, or with the room's defaults)."""
     scene = wv.load_scene(Path(__file__).resolve().parents[1] / "scenes" / f"{ROOMS[room]}.toml")
     kw = {"width": size[0], "height": size[1]}
     refs = {}
     for flat in (True, False):
-        half = [wv.render(scene, spp=ref_spp // 2, seed=10_000 + k, flat=flat, progress=None, **kw).rgb
+        half = [wv.render(scene, spp=ref_spp // 2, seed=10_000 + k, flat=flat, progress=None, **kw,
+                          **REFERENCES[reference]).rgb
                 for k in range(2)]  # (every core: only the test renders are timed)
         refs[flat] = Reference(half[0], half[1], ref_spp // 2)
     err = {True: [], False: []}
@@ -90,7 +99,7 @@ def efficiency(room: str, *, size: tuple[int, int], spp: int, seeds: int, ref_sp
     for flat in (True, False):
         rel, t = float(np.mean(err[flat])), float(np.mean(cpu[flat]))
         rows.append({"room": room, "variant": "flat" if flat else "curved", "width": size[0], "height": size[1],
-                     "spp": spp, "seeds": seeds, "reference_spp": ref_spp, "rel_mse": rel, "cpu_s": t,
+                     "spp": spp, "seeds": seeds, "reference": reference, "reference_spp": ref_spp, "rel_mse": rel, "cpu_s": t,
                      "efficiency": 1.0 / (rel * t)})
     for r in rows:
         r["flat_over_this"] = rows[0]["efficiency"] / r["efficiency"]
@@ -108,6 +117,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seeds", type=int, default=None, help="--efficiency: seeds per variant (default 8; quick 2)")
     parser.add_argument("--ref-spp", type=int, default=None,
                         help="--efficiency: the references' samples per pixel (default 1024; quick 32)")
+    parser.add_argument("--reference", choices=sorted(REFERENCES), default="unbiased",
+                        help="--efficiency: references path traced without photons (default) or the rooms' own")
     args = parser.parse_args(argv)
     rooms = [r.strip() for r in args.rooms.split(",") if r.strip()]
     unknown = [r for r in rooms if r not in ROOMS]
@@ -117,7 +128,8 @@ def main(argv: list[str] | None = None) -> int:
         size, spp = ((12, 9), 4) if args.quick else ((48, 36), 16)
         seeds = args.seeds or (2 if args.quick else 8)
         ref_spp = args.ref_spp or (32 if args.quick else 1024)
-        rows = [row for room in rooms for row in efficiency(room, size=size, spp=spp, seeds=seeds, ref_spp=ref_spp)]
+        rows = [row for room in rooms for row in efficiency(room, size=size, spp=spp, seeds=seeds, ref_spp=ref_spp,
+                                                        reference=args.reference)]
         header = f"{'room':8} {'variant':8} {'rel MSE':>9} {'cpu s':>7} {'efficiency':>11} {'flat / this':>12}"
         line = "{room:8} {variant:8} {rel_mse:9.4f} {cpu_s:7.3f} {efficiency:11.1f} {flat_over_this:12.2f}"
         return _report(rows, args.out / "gravity_efficiency.csv", header, line)

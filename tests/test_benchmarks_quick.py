@@ -362,6 +362,7 @@ def test_gravity_cost_benchmark_measures_the_efficiency_cost(tmp_path):
     rows = {r["variant"]: r for r in read_csv(tmp_path / "gravity_efficiency.csv")}
     assert set(rows) == {"flat", "curved"}
     for r in rows.values():
+        assert r["reference"] == "unbiased"  # path traced without photons: a photon map's blur counts as error
         assert float(r["rel_mse"]) > 0 and float(r["cpu_s"]) > 0
         assert float(r["efficiency"]) == pytest.approx(1.0 / (float(r["rel_mse"]) * float(r["cpu_s"])), rel=1e-4)  # (the CSV keeps 6 digits)
     assert float(rows["flat"]["flat_over_this"]) == 1.0
