@@ -837,7 +837,7 @@ class PathTracer {
     todo[n_todo++] = {sc_.camera.position, camera_.start_direction(camera_.direction_at(x, y), energy0),
                       sc_.camera.sheet, -1, 0, 1u, 1.0};
     double radiance = 0.0;
-    bool captured = false;
+    bool captured = false, specular = false;
     auto leaf = [&](bool emits, uint32_t code, uint32_t end) {
       ++leaves;
       any |= emits;
@@ -862,6 +862,7 @@ class PathTracer {
       co_await segments_.segment(b.x, b.sheet, b.d, b.skip, nullptr, st, frames, sched, e);
       captured |= e.status == kHorizon;
       const Material* mat = e.status == kHit ? &sc_.materials[sc_.prims[e.prim].material] : nullptr;
+      specular |= mat && !mat->emits() && mat->is_delta();
       if (!(mat && !mat->emits() && mat->is_delta() && b.depth < kProbeSpecular &&
             leaves + n_todo + 2 <= kProbeLeaves)) {  // an emitter, a non-specular surface, the sky, or the end
         if (mat && mat->emits()) radiance = std::max(radiance, b.share * max_component(emission_.emission(e)));
@@ -894,6 +895,7 @@ class PathTracer {
     hit.shape = shape;
     hit.radiance = float(radiance);
     hit.captured = captured;
+    hit.specular = specular;
   }
 
  private:

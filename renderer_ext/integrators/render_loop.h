@@ -70,7 +70,8 @@ inline void accumulate(Film& film, size_t pix, const SampleOut& so) {
 // The pixels of window (X0, Y0, W, H) that get more samples, found without random numbers (kPixelClasses *
 // index + class, ascending): probe(x, y, stats, scheduler, hit) gives what the camera ray through image point
 // (x, y) (pixel units) sees (ProbeHit: path_tracer.h); the probes lie on the lattice of half-pixel spacing
-// (corners, edge midpoints and centres, shared by neighbours). With `edges`, a pixel whose nine lattice points
+// (corners, edge midpoints and centres, shared by neighbours), a pixel's inner five only where its corners do
+// not show it plain (below), which is judged by its corners. With `edges`, a pixel whose nine lattice points
 // disagree on the emitters their branches end on, or one of which sees some (kProbeMixed), is an edge pixel
 // (straddling the edge of a light seen directly or in mirrors and glass), a bright edge pixel where one of those
 // points sees an emitter at radiance `bright` or more; so is a pixel none of whose lattice points sees a light
@@ -99,20 +100,66 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
   };
   std::vector<int64_t> classes;
   const size_t LW = size_t(2 * W + 1), LH = size_t(2 * H + 1);
-  std::vector<ProbeHit> hit;
-  cancelled = !run_probes(LW * LH, [&](size_t i, double& x, double& y) {
-    x = X0 + 0.5 * double(i % LW);
-    y = Y0 + 0.5 * double(i / LW);
-  }, hit);
+  std::vector<ProbeHit> hit(LW * LH);
+  // The pixels' corners first, with a ring of one pixel round the window; then the other five lattice points of
+  // each pixel that is not plain. A pixel is plain where the 16 corners of its 3 x 3 pixel neighbourhood show
+  // nothing that its inner points could add: none sees a light or meets a mirror or glass, all fall in or none
+  // does, and with `details` all end on the same shape. It is judged by its four corners alone: what could lie
+  // between them unseen is smaller than a pixel and touches no corner within a pixel of it (the lights' thin arcs
+  // are looked for by the probes below). The corners round the window make it depend on the scene and the
+  // pixel only, as every class does.
+  const size_t CW = size_t(W + 3), CH = size_t(H + 3);  // corner (i, j) at image point (X0 + i - 1, Y0 + j - 1)
+  std::vector<ProbeHit> corner;
+  cancelled = !run_probes(CW * CH, [&](size_t k, double& x, double& y) {
+    x = X0 + double(k % CW) - 1.0;
+    y = Y0 + double(k / CW) - 1.0;
+  }, corner);
   if (cancelled) return classes;
+  for (size_t j = 0; j + 2 < CH; ++j)
+    for (size_t i = 0; i + 2 < CW; ++i) hit[2 * j * LW + 2 * i] = corner[(j + 1) * CW + i + 1];
   auto lattice = [&](int x, int y, int i, int j) -> const ProbeHit& {  // point (i, j) < 3 of pixel (x, y)'s nine
     return hit[size_t(2 * y + j) * LW + size_t(2 * x + i)];
   };
+  std::vector<char> plain(size_t(W) * H, 0);
+  std::vector<char> wanted(LW * LH, 0);
+  std::vector<size_t> inner;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const ProbeHit& h0 = lattice(x, y, 0, 0);
+      bool same = true;
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {  // corners x - 1 .. x + 2, y - 1 .. y + 2
+          const ProbeHit& h = corner[size_t(y + j) * CW + size_t(x + i)];
+          same = same && h.light == 0 && !h.specular && h.captured == h0.captured && (!details || h.shape == h0.shape);
+        }
+      plain[size_t(y) * W + size_t(x)] = same;
+      if (same) continue;
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+          const size_t l = size_t(2 * y + j) * LW + size_t(2 * x + i);
+          if ((i | j) & 1 && !wanted[l]) {
+            wanted[l] = 1;
+            inner.push_back(l);
+          }
+        }
+    }
+  std::vector<ProbeHit> inner_hit;
+  cancelled = !run_probes(inner.size(), [&](size_t k, double& x, double& y) {
+    x = X0 + 0.5 * double(inner[k] % LW);
+    y = Y0 + 0.5 * double(inner[k] / LW);
+  }, inner_hit);
+  if (cancelled) return classes;
+  for (size_t k = 0; k < inner.size(); ++k) hit[inner[k]] = inner_hit[k];
+  // Pixel (x, y)'s lattice points: its nine, or a plain pixel's four corners.
+  auto for_points = [&](int x, int y, const auto& f) {
+    const int step = plain[size_t(y) * W + size_t(x)] ? 2 : 1;
+    for (int j = 0; j < 3; j += step)
+      for (int i = 0; i < 3; i += step) f(lattice(x, y, i, j));
+  };
   auto dark = [&](int x, int y) {  // none of pixel (x, y)'s lattice points sees a light
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i)
-        if (lattice(x, y, i, j).light != 0) return false;
-    return true;
+    bool none = true;
+    for_points(x, y, [&](const ProbeHit& h) { none = none && h.light == 0; });
+    return none;
   };
   // A light's image point (images: light_image_points) in a dark pixel: one more probe through that point says
   // whether the image is seen there (not hidden): a thin lensed arc.
@@ -141,8 +188,7 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) {
         bool in = false, out = false;
-        for (int j = 0; j < 3; ++j)
-          for (int i = 0; i < 3; ++i) (lattice(x, y, i, j).captured ? in : out) = true;
+        for_points(x, y, [&](const ProbeHit& h) { (h.captured ? in : out) = true; });
         if (in && out && dark(x, y)) rim_pixels.push_back(size_t(y) * W + size_t(x));
       }
     cancelled = !run_probes(rim_pixels.size() * K * K, [&](size_t k, double& x, double& y) {
@@ -159,13 +205,11 @@ std::vector<int64_t> pixel_classes(const M& m, const RenderOptions& o, int X0, i
       const ProbeHit& h0 = lattice(x, y, 0, 0);
       bool edge = edges && h0.light == kProbeMixed, detail = false;
       double seen = 0.0;  // the brightest emitter its points see
-      for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) {
-          const ProbeHit& h = lattice(x, y, i, j);
-          edge = edge || (edges && h.light != h0.light);  // (h0 is not mixed here, so a mixed point differs)
-          detail = detail || (details && h.shape != h0.shape);
-          seen = std::max(seen, double(h.radiance));
-        }
+      for_points(x, y, [&](const ProbeHit& h) {
+        edge = edge || (edges && h.light != h0.light);  // (h0 is not mixed here, so a mixed point differs)
+        detail = detail || (details && h.shape != h0.shape);
+        seen = std::max(seen, double(h.radiance));
+      });
       const size_t c = size_t(y) * W + size_t(x);
       if (next_arc < arc_pixels.size() && arc_pixels[next_arc] == c) {
         seen = std::max(seen, double(arc_hit[next_arc].radiance));

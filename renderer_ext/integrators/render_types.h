@@ -151,6 +151,7 @@ struct ProbeHit {
   uint32_t shape = 0;
   float radiance = 0.0f;  // the brightest emitter its branches end on (the largest channel, times the branch's share)
   bool captured = false;  // some followed branch ends in a horizon
+  bool specular = false;  // some followed branch met a mirror or glass
 };
 
 enum SegmentKind : int8_t { kCameraSegment = 0, kBounceSegment = 1, kLightSegment = 2 };
