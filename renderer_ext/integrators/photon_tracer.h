@@ -130,19 +130,32 @@ class PhotonTracer {
       return true;
     }
     const uint64_t seed = photon_seed(o_.seed);
-    std::vector<Photon> out(n);
-    std::vector<char> hit(n, 0);
-    std::vector<RenderStats> task_stats;
-    auto make = [&](size_t i, RenderStats& st, Scheduler* sched) {
-      return trace(seed, j, int64_t(i), double(n), st, sched, out[i], hit[i]);
+    struct TaskPhotons {  // a task's photons while it runs, and those it stored, in photon order
+      RenderStats stats;
+      std::vector<Photon> out, stored;
+      std::vector<char> hit;
     };
-    if (!run_tasks<M, S>(m_, o_.batch, o_.threads, n, kTaskPhotons, task_stats, make, poll)) return false;
+    std::vector<TaskPhotons> tasks;
+    auto make = [&](size_t i, TaskPhotons& t, Scheduler* sched) {
+      if (t.out.empty()) {  // (a task's photons start on its worker, its first one first)
+        t.out.resize(kTaskPhotons);
+        t.hit.assign(kTaskPhotons, 0);
+      }
+      return trace(seed, j, int64_t(i), double(n), t.stats, sched, t.out[i % kTaskPhotons], t.hit[i % kTaskPhotons]);
+    };
+    auto finish = [&](size_t k) {  // the task's stored photons kept, its buffers let go
+      TaskPhotons& t = tasks[k];
+      for (size_t i = 0; i < t.out.size(); ++i)
+        if (t.hit[i]) t.stored.push_back(t.out[i]);
+      t.out = std::vector<Photon>();
+      t.hit = std::vector<char>();
+    };
+    if (!run_tasks<M, S>(m_, o_.batch, o_.threads, n, kTaskPhotons, tasks, make, poll, finish)) return false;
     std::vector<Photon> all;
-    for (size_t i = 0; i < n; ++i)
-      if (hit[i]) all.push_back(out[i]);
-    for (const RenderStats& st : task_stats) {
-      stats.segments += st.segments;
-      stats.steps += st.steps;
+    for (TaskPhotons& t : tasks) {
+      all.insert(all.end(), t.stored.begin(), t.stored.end());
+      stats.segments += t.stats.segments;
+      stats.steps += t.stats.steps;
     }
     map = PhotonMap(std::move(all));
     return true;

@@ -84,17 +84,20 @@ void run_samples(const M& m, bool batch, size_t n, const Make& make) {
 
 // Runs make(k, stats, scheduler) for k in [0, count) on `threads` workers: parallel tasks of `per_task`
 // consecutive k, each task's samples interleaved in lanes by run_samples and counted in its own stats,
-// task_stats[t] (resized to the number of tasks, so the caller adds them up in a fixed order). poll as
+// task_stats[t] (resized to the number of tasks, so the caller adds them up in a fixed order; Stats may carry
+// a task's own buffers too), and finish(t) called on the task's worker once its samples are done. poll as
 // parallel_for's; false: cancelled.
 template <class M, class S, class Stats, class Make>
 bool run_tasks(const M& m, bool batch, int threads, size_t count, size_t per_task, std::vector<Stats>& task_stats,
-               const Make& make, const std::function<bool()>& poll = {}) {
+               const Make& make, const std::function<bool()>& poll = {},
+               const std::function<void(size_t)>& finish = {}) {
   const size_t ntasks = (count + per_task - 1) / per_task;
   task_stats.assign(ntasks, Stats{});
   auto body = [&](size_t t) {
     const size_t k0 = t * per_task, k1 = std::min(count, k0 + per_task);
     run_samples<M, S>(m, batch, k1 - k0,
                       [&](size_t k, SampleScheduler<M, S>* sched) { return make(k0 + k, task_stats[t], sched); });
+    if (finish) finish(t);
   };
   return parallel_for(ntasks, threads, 1, body, poll);
 }
