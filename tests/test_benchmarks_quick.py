@@ -87,8 +87,13 @@ def test_speedup_columns_interpolate_rk4_at_dopri5_error(work_precision):
     rows, _ = work_precision
     row = next(r for r in rows if r["metric"] == "schwarzschild" and r["stepper"] == "dopri5" and r["tol"] == 1e-6)
     rk4 = [r for r in rows if r["metric"] == "schwarzschild" and r["stepper"] == "rk4"]
-    expected = time_at_error([r["us_per_geodesic"] for r in rk4], [r["error"] for r in rk4], row["error"])
-    assert row["speedup_vs_rk4"] == pytest.approx(expected / row["us_per_geodesic"])
+    # (the benchmark's pool: rk4 runs whose statuses all match; with the others the Pareto front, and so the
+    # interpolated time, depends on how the timings of a run that disagrees fall on a loaded machine)
+    pool = [r for r in rk4 if r["status_mismatch"] == 0]
+    expected = time_at_error([r["us_per_geodesic"] for r in pool], [r["error"] for r in pool], row["error"])
+    # (NaN, no extrapolation, where the error lies outside rk4's Pareto front: on a loaded machine a noisy timing
+    # can drop rk4's least accurate run from the front)
+    assert row["speedup_vs_rk4"] == pytest.approx(expected / row["us_per_geodesic"], nan_ok=True)
     assert all(math.isnan(r["speedup_vs_rk4"]) for r in rk4)
 
 
