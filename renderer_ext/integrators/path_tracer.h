@@ -862,8 +862,9 @@ class PathTracer {
       co_await segments_.segment(b.x, b.sheet, b.d, b.skip, nullptr, st, frames, sched, e);
       captured |= e.status == kHorizon;
       const Material* mat = e.status == kHit ? &sc_.materials[sc_.prims[e.prim].material] : nullptr;
-      specular |= mat && !mat->emits() && mat->is_delta();
-      if (!(mat && !mat->emits() && mat->is_delta() && b.depth < kProbeSpecular &&
+      const bool delta = mat && !mat->emits() && mat->is_delta();  // a mirror or glass
+      specular |= delta;
+      if (!(delta && b.depth < kProbeSpecular &&
             leaves + n_todo + 2 <= kProbeLeaves)) {  // an emitter, a non-specular surface, the sky, or the end
         if (mat && mat->emits()) radiance = std::max(radiance, b.share * max_component(emission_.emission(e)));
         leaf(mat && mat->emits(), b.code, end_of(e));
