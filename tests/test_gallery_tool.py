@@ -154,3 +154,26 @@ def test_every_shipped_scene_has_a_picture_name_of_its_own():
     names = [make_gallery.short_name(p) for p in shipped_scenes()]
     assert len(names) == len(set(names))
     assert "caustics_glass_ball_hole" in names and "fig07" in names and "mitsuba" in names
+
+
+def test_a_kept_picture_rendered_with_another_default_is_rendered_again(tmp_path, monkeypatch):
+    # a picture that had its samples is kept only while today's settings would continue it: a default changed
+    # since (here max_depth) makes it render again, as the renderer's own resume check says
+    import importlib
+
+    render_module = importlib.import_module("warpviz.render.render")
+    out, work, lines = tmp_path / "pictures", tmp_path / "work", []
+    out.mkdir()
+    work.mkdir()
+    s = {"size": (8, 6), "spp": 1, "seconds": None, "denoise": False}
+    scene = load_scene("fig04")
+    make_gallery.render_picture(scene, "ring", s, out=out, work=work, log=lines.append)
+    make_gallery.render_picture(scene, "ring", s, out=out, work=work, log=lines.append)
+    assert "kept" in lines[-1]
+    depth = render_module.DEFAULT_OPTIONS["max_depth"]
+    assert "max_depth" not in load_scene("fig04").native().get("render", {})
+    monkeypatch.setitem(render_module.DEFAULT_OPTIONS, "max_depth", depth + 1)
+    make_gallery.render_picture(scene, "ring", s, out=out, work=work, log=lines.append)
+    assert any("ring.exr is not what today's settings render (" in line and "max_depth" in line for line in lines)
+    assert "kept" not in lines[-1]
+    assert make_gallery.png_metadata(out / "ring.png")["resume"]["settings"]["max_depth"] == depth + 1

@@ -167,6 +167,9 @@ def test_guided_renders_are_the_same_on_any_number_of_threads_and_resumed():
     np.testing.assert_allclose(resumed.rgb, a.rgb, rtol=1e-6, atol=1e-7)  # (as any resume: float32 sums)
     with pytest.raises(ValueError, match="guide_training"):
         wv.render(sc, spp=4, seed=2, guide_training=4, resume=half)  # trained otherwise: not the same render
+    again = wv.render(sc, spp=4, seed=2, threads=2, guide_training=8, resume=resumed)  # its own samples: no pass
+    assert again.stats["guide_segments"] == 0 and resumed.stats["guide_segments"] > 0  # so nothing trained
+    np.testing.assert_array_equal(again.rgb, resumed.rgb)
 
 
 def test_guiding_off_is_the_render_before_bit_for_bit():

@@ -156,11 +156,30 @@ def _done(meta: dict | None, s: dict) -> bool:
     return meta.get("stopped_by") in ("time", "noise") and meta.get("time_limit") is not None
 
 
+def _kept_problem(scene, prior, *, width, height, aovs: list[str]) -> str | None:
+    """Why a kept render that has had its samples or budget is not what rendering ``scene`` today gives, or None.
+
+    The renderer itself is asked (a resume to the image's own samples: no pass runs), so every setting and
+    default it compares is compared here too: a default changed since the picture was rendered (say
+    ``photon_aim``) makes it render again rather than keep a picture of the old settings.
+    """
+    import warpviz as wv
+
+    try:
+        wv.render(scene, resume=prior, spp=int(prior.metadata["spp"]), width=width, height=height, aovs=aovs)
+    except ValueError as exc:
+        if not str(exc).startswith("resume:"):
+            raise
+        return str(exc).removeprefix("resume:").strip()
+    return None
+
+
 def render_picture(scene, short: str, s: dict, *, out: Path, work: Path, log=print) -> dict:
     """Render (or continue, or reuse) one picture; write its EXR into ``work`` and its PNG into ``out``.
 
     A kept EXR is continued (or reused, when it has had its samples or budget) only while the scene is the
-    one it was rendered from (the digest in its header); a scene changed since is rendered again. Returns
+    one it was rendered from (the digest in its header) and today's settings would continue it (a default
+    changed since: :func:`_kept_problem`); otherwise it is rendered again. Returns
     the PNG's metadata. An interruption keeps the finished passes in the EXR and propagates.
     """
     import warpviz as wv
@@ -181,6 +200,11 @@ def render_picture(scene, short: str, s: dict, *, out: Path, work: Path, log=pri
                               != scene_sha256(scene.native(width=width, height=height))):
         log(f"{short}: the scene has changed since {exr.name} was rendered; starting again")
         prior = None
+    if prior is not None and _done(prior.metadata, s):
+        problem = _kept_problem(scene, prior, width=width, height=height, aovs=aovs)
+        if problem is not None:  # (a default changed since: the picture would not be today's render)
+            log(f"{short}: the kept {exr.name} is not what today's settings render ({problem}); starting again")
+            prior = None
     spent = float(prior.metadata.get("seconds") or 0.0) if prior is not None else 0.0
     if prior is not None and _done(prior.metadata, s) and png_metadata(png) is not None:
         log(f"{short}: done ({prior.metadata['spp']} spp, {spent:.0f} s), kept")
