@@ -52,7 +52,8 @@ def reference_half(room: str, w: int, h: int, spp: int, seed: int, cache: Path, 
     while done < spp:
         step = min(spp, done + chunk)
         t0 = time.perf_counter()
-        img = wv.render(str(SCENES[room]), width=w, height=h, spp=step, seed=seed, photons=0, edge_samples=1,
+        img = wv.render(str(SCENES[room]), width=w, height=h, spp=step, seed=seed, photons=0,
+                        photons_per_pixel=0.0, edge_samples=1,
                         detail_samples=1, progress=None, **({"resume": img} if img is not None else {}))  # fmt: skip
         img.save(path)
         done = step
@@ -65,15 +66,16 @@ def reference_half(room: str, w: int, h: int, spp: int, seed: int, cache: Path, 
 def seen_lights(room: str, w: int, h: int, spp: int) -> np.ndarray:
     """(H, W) bool: the pixels whose camera rays reach a light before any diffuse surface (directly or through
     mirrors and glass), by the emission AOV of a path-traced render."""
-    img = wv.render(str(SCENES[room]), width=w, height=h, spp=spp, seed=7, photons=0, aovs=["emission"],
-                    progress=None)  # fmt: skip
+    img = wv.render(str(SCENES[room]), width=w, height=h, spp=spp, seed=7, photons=0, photons_per_pixel=0.0,
+                    aovs=["emission"], progress=None)  # fmt: skip
     return img.aovs["emission"].max(axis=2) > 0.0
 
 
 def main(argv=None) -> list[dict]:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--rooms", default="glass_ball,glass_ball_hole", help="comma-separated subset of " + ", ".join(SCENES))
-    p.add_argument("--photons", default="0,5000,20000", help="photon counts per pass (0: the path tracer, the baseline)")
+    p.add_argument("--photons", default="0,5000,20000",
+                   help="photon counts per pass, each in place of the scene's own (0: the path tracer, the baseline)")
     p.add_argument("--seeds", type=int, default=4)
     p.add_argument("--spp", type=int, default=16)
     p.add_argument("--size", default="64x48")
@@ -100,8 +102,8 @@ def main(argv=None) -> list[dict]:
         off = ~seen_lights(room, w, h, 16 if args.quick else 256)
         for n in counts:
             def render(seed, n=n):
-                return wv.render(str(SCENES[room]), width=w, height=h, spp=spp, seed=seed, photons=n, aovs=[],
-                                 progress=None)  # fmt: skip
+                return wv.render(str(SCENES[room]), width=w, height=h, spp=spp, seed=seed, photons=n,
+                                 photons_per_pixel=0.0, aovs=[], progress=None)  # fmt: skip
 
             rows.append({"room": room, "size": f"{w}x{h}", "spp": spp, "photons": n, "seeds": seeds,
                          "reference_noise": ref.noise, **seeded_errors(render, ref, off, seeds)})  # fmt: skip

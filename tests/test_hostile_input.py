@@ -21,6 +21,7 @@ from typer.testing import CliRunner
 
 import warpviz as wv
 from warpviz import cli
+from warpviz._native import core
 from warpviz.limits import MAX_IMAGE_SIDE, MAX_SPP
 from warpviz.render.memory import RenderTooLarge, render_bytes
 from warpviz.render.render import OPTIONAL_AOVS
@@ -273,7 +274,8 @@ def test_the_memory_check_runs_before_any_allocation():
     env = {k: v for k, v in os.environ.items() if k != "WARPVIZ_MEMORY_LIMIT"}
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
     assert proc.returncode == 2, proc.stderr
-    assert "a 65536x65536 render needs about 448.0 GB" in proc.stderr
+    assert ("a 65536x65536 render needs about 646.0 GB (448.0 GB for its 112 bytes per pixel and up to 198.0 GB for a "
+            "photon pass of 1288490189 photons)") in proc.stderr  # (fig07: 0.3 photons per pixel)
     peak_kib = int(proc.stderr.split("peak")[-1].split()[0])
     assert peak_kib < 600 * 1024, f"peak RSS {peak_kib / 1024:.0f} MiB: something was allocated"
 
@@ -421,6 +423,21 @@ def test_render_too_large_for_the_memory_is_refused_from_python(monkeypatch):
         wv.render("fig04", width=4000, height=3000, spp=1, aovs=[])
     # a window of it fits
     assert wv.render("fig04", width=4000, height=3000, spp=1, crop=(1990, 1490, 20, 20)).shape == (20, 20)
+
+
+
+def test_a_photon_pass_too_large_for_the_memory_is_refused_naming_the_photons(monkeypatch):
+    """A photon pass is the whole image's, held beside the films: at most 2 x 80 bytes (the stored photons and
+    the tree's reordered copy) + 5 per photon (core.photon_pass_bytes), counted before any work."""
+    n, most = core.photon_pass_bytes(1000, 0.5, 40, 30)
+    assert n == 1000 + 600 and most == n * 165
+    assert core.photon_pass_bytes(0, 0.0, 40, 30) == (0, 0)
+    monkeypatch.setenv("WARPVIZ_MEMORY_LIMIT", "64M")
+    with pytest.raises(RenderTooLarge, match=r"fewer photons a pass \(photons / photons_per_pixel: 1000000 photons a "
+                                             r"pass may hold 157\.4 MB\)"):  # fmt: skip
+        wv.render("caustics_glass_ball", width=40, height=30, spp=1, photons=10**6, photons_per_pixel=0.0, aovs=[])
+    # the same picture with photons a pass that fit is rendered
+    assert wv.render("caustics_glass_ball", width=40, height=30, spp=1, photons=1000, aovs=[]).shape == (30, 40)
 
 
 @pytest.mark.parametrize("direction", [[1e308, 1e308, 0.0], [5e-324, 0.0, 0.0], [-1e-320, 1e-320, 0.0]])

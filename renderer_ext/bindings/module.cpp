@@ -390,11 +390,8 @@ nb::dict render(nb::dict scene, nb::dict options) {
     o.classes.assign(el.data(), el.data() + el.size());
   }
   o.guide_training = option<int>(options, "guide_training");
-  // A pass's photons: `photons` plus `photons_per_pixel` per pixel of the whole image (every crop and tile traces
-  // the whole image's pass).
-  const double per_pixel = option<double>(options, "photons_per_pixel");
-  o.photons = option<int64_t>(options, "photons") +
-              int64_t(std::llround(per_pixel * double(sc.camera.width) * double(sc.camera.height)));
+  o.photons = wv::pass_photons(option<int64_t>(options, "photons"), option<double>(options, "photons_per_pixel"),
+                               sc.camera.width, sc.camera.height);
   o.photon_radius = option<double>(options, "photon_radius");
   o.retro_photons = option<bool>(options, "retro_photons");
   o.photon_aim = option<bool>(options, "photon_aim");
@@ -595,6 +592,15 @@ NB_MODULE(_core, m) {
       },
       "edge_samples"_a, "detail_samples"_a,
       "The multiples of spp a render's pixels get (integrators/render_types.h): plain, edge, detail, bright edge.");
+  m.def(
+      "photon_pass_bytes",
+      [](int64_t photons, double photons_per_pixel, int width, int height) {
+        const int64_t n = wv::pass_photons(photons, photons_per_pixel, width, height);
+        return nb::make_tuple(n, n * int64_t(wv::kPhotonPassBytes));
+      },
+      "photons"_a, "photons_per_pixel"_a, "width"_a, "height"_a,
+      "A photon pass's photons for a width x height image, and the most memory in bytes the pass holds at once "
+      "(every photon stored): integrators/render_types.h.");
   m.def("metrics", &metrics, "Registered metrics and their facts (engine/registry.h).");
   m.def("load_metric_plugin", &wv::load_metric_plugin, "path"_a,
         "Loads a metric plugin once and enters its metrics and steppers into the registry (engine/plugin.h); "

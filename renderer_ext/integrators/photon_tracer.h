@@ -129,6 +129,7 @@ class PhotonTracer {
       map = PhotonMap();
       return true;
     }
+    map = PhotonMap();  // the last pass's photons are gathered no more: let them go before this pass's are stored
     const uint64_t seed = photon_seed(o_.seed);
     struct TaskPhotons {  // a task's photons while it runs, and those it stored, in photon order
       RenderStats stats;
@@ -145,15 +146,22 @@ class PhotonTracer {
     };
     auto finish = [&](size_t k) {  // the task's stored photons kept, its buffers let go
       TaskPhotons& t = tasks[k];
+      t.stored.reserve(size_t(std::count_if(t.hit.begin(), t.hit.end(), [](char h) { return h != 0; })));
       for (size_t i = 0; i < t.out.size(); ++i)
         if (t.hit[i]) t.stored.push_back(t.out[i]);
       t.out = std::vector<Photon>();
       t.hit = std::vector<char>();
     };
     if (!run_tasks<M, S>(m_, o_.batch, o_.threads, n, kTaskPhotons, tasks, make, poll, finish)) return false;
+    // At most kPhotonPassBytes per photon at once (every photon stored): the stored ones gathered (each task's let
+    // go as it is copied), then the tree's photons and its reordered copy, its index and axes (PhotonMap).
+    size_t count = 0;
+    for (const TaskPhotons& t : tasks) count += t.stored.size();
     std::vector<Photon> all;
+    all.reserve(count);
     for (TaskPhotons& t : tasks) {
       all.insert(all.end(), t.stored.begin(), t.stored.end());
+      t.stored = std::vector<Photon>();
       stats.segments += t.stats.segments;
       stats.steps += t.stats.steps;
     }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -12,6 +13,7 @@
 #include "film/pixel_filter.h"
 #include "integrators/guide_tree.h"
 #include "integrators/photon_aim.h"
+#include "integrators/photon_map.h"
 #include "spacetime/geodesic.h"
 
 namespace wv {
@@ -127,6 +129,14 @@ enum PixelClass : int { kPlainPixel = 0, kDetailPixel = 1, kEdgePixel = 2, kBrig
 constexpr int64_t kPixelClasses = 4;  // pixel_classes entries: kPixelClasses * index + class
 constexpr double kBrightEdgeRatio = 64.0;
 constexpr int64_t kBrightEdgeFactor = 8;
+
+// A photon pass's photons: `photons` plus `photons_per_pixel` per pixel of the whole image (every crop and tile
+// traces the whole image's pass), and the most memory such a pass holds at once (every photon stored:
+// photon_tracer.h), which warpviz/render/memory.py counts through the binding.
+inline int64_t pass_photons(int64_t photons, double per_pixel, int width, int height) {
+  return photons + int64_t(std::llround(per_pixel * double(width) * double(height)));
+}
+inline constexpr size_t kPhotonPassBytes = 2 * sizeof(Photon) + sizeof(uint32_t) + 1;
 
 // The multiples of spp that a render's pixels get, by class: the one definition (render_loop.h, and Python's
 // resume through the binding). An edge pixel gets the larger of edge_samples and detail_samples, a bright edge

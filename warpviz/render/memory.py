@@ -3,6 +3,8 @@
 A render's memory grows with its pixel count: the core's film (double sums of radiance and of its
 squares, sample and error counts, and the AOVs asked for), twice while a pass continues the finished
 passes' film, then the float32 image and AOVs resolved from it, and the copies made while saving. :func:`render_bytes` adds these up from the film's layout (``renderer_ext/film/film.h``);
+a render with caustics by photons also holds a photon pass (at most ``core.photon_pass_bytes``: every photon
+stored, ``renderer_ext/integrators/render_types.h``);
 :func:`check_render_memory` compares the estimate with the memory the machine has free (the smaller of
 ``MemAvailable`` and the process's cgroup limit, or ``WARPVIZ_MEMORY_LIMIT`` where set) and refuses, with a
 :class:`RenderTooLarge` error naming the size, the estimate and what to do, a render that would not fit.
@@ -142,7 +144,8 @@ def format_bytes(n: float) -> str:
     raise AssertionError("unreachable")
 
 
-def check_render_memory(width: int, height: int, *, aovs: Iterable[str], image: tuple[int, int] | None = None) -> int:
+def check_render_memory(width: int, height: int, *, aovs: Iterable[str], image: tuple[int, int] | None = None,
+                        photons: tuple[int, int] = (0, 0)) -> int:
     """Refuse a render that would not fit in memory, before it allocates anything.
 
     Parameters
@@ -153,6 +156,9 @@ def check_render_memory(width: int, height: int, *, aovs: Iterable[str], image: 
         The optional AOVs computed.
     image : tuple of int, optional, keyword-only
         (width, height) of the whole image when a window of it is rendered (for the message).
+    photons : tuple of int, optional, keyword-only
+        A photon pass's photons and the most bytes it holds at once (``core.photon_pass_bytes``: every photon
+        stored), held beside the films while a pass runs; (0, 0) without photons.
 
     Returns
     -------
@@ -166,7 +172,9 @@ def check_render_memory(width: int, height: int, *, aovs: Iterable[str], image: 
         fixed headroom (256 MB for the interpreter, the extension and the samples in flight).
     """
     aovs = tuple(aovs)
-    need = render_bytes(width, height, aovs=aovs)
+    n_photons, photon_bytes = (int(v) for v in photons)
+    film = render_bytes(width, height, aovs=aovs)
+    need = film + photon_bytes
     limited = bool(os.environ.get("WARPVIZ_MEMORY_LIMIT"))
     free = available_memory()
     if free is None:
@@ -180,12 +188,20 @@ def check_render_memory(width: int, height: int, *, aovs: Iterable[str], image: 
     per_pixel = need / max(1, width * height)
     fits = int((budget / per_pixel) ** 0.5)
     hints = [f"a smaller size (about {fits}x{fits} fits)"] if fits >= 1 else []
-    hints.append("rendering it in windows (tiles) with crop= / --crop")
+    if photon_bytes > film / 4:  # (a photon pass is the whole image's, whatever the window)
+        hints.insert(0, f"fewer photons a pass (photons / photons_per_pixel: {n_photons} photons a pass may hold "
+                        f"{format_bytes(photon_bytes)})")  # fmt: skip
+    else:
+        hints.append("rendering it in windows (tiles) with crop= / --crop")
     extra = [a for a in aovs if a in AOV_BYTES]
     if extra:
         hints.append(f"fewer AOVs (asked for: {', '.join(extra)}; a PNG needs none)")
     source = "WARPVIZ_MEMORY_LIMIT allows" if limited else "free on this machine allow"
+    parts = f"{film / max(1, width * height):.0f} bytes per pixel"
+    if photon_bytes:
+        parts = (f"{format_bytes(film)} for its {parts} and up to {format_bytes(photon_bytes)} for a photon pass of "
+                 f"{n_photons} photons")  # fmt: skip
     raise RenderTooLarge(
-        f"a {size} render needs about {format_bytes(need)} ({per_pixel:.0f} bytes per pixel), more than the "
-        f"{format_bytes(free)} {source}; use {', or '.join(hints)}"
+        f"a {size} render needs about {format_bytes(need)} ({parts}), more than the {format_bytes(free)} {source}; "
+        f"use {', or '.join(hints)}"
     )

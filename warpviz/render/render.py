@@ -478,7 +478,8 @@ def render(
         options["aovs"] += [a for a in DENOISE_AOVS if a not in options["aovs"]]
     if denoise:
         require_denoiser()  # before any work: a missing optional dependency is named at once
-    check_render_memory(cw, ch, aovs=options["aovs"], image=None if (cw, ch) == (w, h) else (w, h))
+    photon_pass = core.photon_pass_bytes(options["photons"], options["photons_per_pixel"], w, h)
+    check_render_memory(cw, ch, aovs=options["aovs"], image=None if (cw, ch) == (w, h) else (w, h), photons=photon_pass)
 
     core_options = {key: value for key, value in options.items() if key != "progress"}
     core_options["record_samples"] = options["spp"]  # a recorded pixel's paths: its first spp samples
