@@ -487,8 +487,9 @@ def render(
     t0 = time.perf_counter()
     guide_segments = 0  # the segments path guiding's training traced
     passes_left = limited or start.spp < target  # (a resume to the image's own samples runs none)
-    if options["guide_training"] > 0 and passes_left:  # path guiding: trained once (a one-pixel range trains the whole image's
-        # tree, guide_training.h), then handed to every range, tile and pass (no photon pass for its one pixel)
+    if options["guide_training"] > 0 and passes_left:  # path guiding: trained once (a one-pixel range trains the
+        # whole image's tree, guide_training.h), then handed to every range, tile and pass (no photon pass for its
+        # one pixel)
         trained = core.render(native, {**core_options, "spp": 1, "sample_begin": 0, "crop": [0, 0, 1, 1], "aovs": [],
                                        "edge_samples": 1, "detail_samples": 1, "record_pixels": None,
                                        "photons": 0, "photons_per_pixel": 0.0})  # fmt: skip
