@@ -425,7 +425,6 @@ def test_render_too_large_for_the_memory_is_refused_from_python(monkeypatch):
     assert wv.render("fig04", width=4000, height=3000, spp=1, crop=(1990, 1490, 20, 20)).shape == (20, 20)
 
 
-
 def test_a_photon_pass_too_large_for_the_memory_is_refused_naming_the_photons(monkeypatch):
     """A photon pass is the whole image's, held beside the films: at most 2 x 80 bytes (the stored photons and
     the tree's reordered copy) + 5 per photon (core.photon_pass_bytes), counted before any work."""

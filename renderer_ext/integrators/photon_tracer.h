@@ -124,12 +124,9 @@ class PhotonTracer {
 
   // Pass j's photon map: o.photons photons traced in parallel, stored in photon order. False: cancelled.
   bool pass(int64_t j, const std::function<bool()>& poll, PhotonMap& map, RenderStats& stats) const {
-    const size_t n = size_t(std::max<int64_t>(0, o_.photons));
-    if (lights_.empty() || n == 0) {
-      map = PhotonMap();
-      return true;
-    }
     map = PhotonMap();  // the last pass's photons are gathered no more: let them go before this pass's are stored
+    const size_t n = size_t(std::max<int64_t>(0, o_.photons));
+    if (lights_.empty() || n == 0) return true;
     const uint64_t seed = photon_seed(o_.seed);
     struct TaskPhotons {  // a task's photons while it runs, and those it stored, in photon order
       RenderStats stats;
